@@ -1,0 +1,94 @@
+//! Input: an exact level `c` and vertex heights (`f64`, exact).
+//! Output: the exact sign `sign(h - c)`.
+//!
+//! The level keeps the two adjacent doubles that bracket it, so the exact
+//! comparison of a double with `c` is two float comparisons: there is no
+//! double strictly between `lo` and `hi`.
+
+use super::rational::{rat_from_f64, rat_to_f64, rat_to_string, Rat};
+use super::Sign;
+use std::fmt;
+
+/// An exact level `c` with its bracketing doubles `lo <= c <= hi`
+/// (`lo == hi` exactly when `c` is a double).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Level {
+    value: Rat,
+    lo: f64,
+    hi: f64,
+}
+
+impl Level {
+    /// Wraps an exact rational level.
+    pub fn new(value: Rat) -> Self {
+        let f = rat_to_f64(&value);
+        let (lo, hi) = if f.is_infinite() {
+            if f > 0.0 {
+                (f64::MAX, f64::INFINITY)
+            } else {
+                (f64::NEG_INFINITY, f64::MIN)
+            }
+        } else {
+            match rat_from_f64(f).cmp(&value) {
+                std::cmp::Ordering::Equal => (f, f),
+                std::cmp::Ordering::Less => (f, f.next_up()),
+                std::cmp::Ordering::Greater => (f.next_down(), f),
+            }
+        };
+        Level { value, lo, hi }
+    }
+
+    /// The exact value.
+    pub fn value(&self) -> &Rat {
+        &self.value
+    }
+
+    /// The nearest double (rounded: for display only).
+    pub fn approx(&self) -> f64 {
+        rat_to_f64(&self.value)
+    }
+
+    /// `sign(h - c)` for a finite double `h`, decided exactly.
+    #[inline]
+    pub fn sign_of(&self, h: f64) -> Sign {
+        if self.lo == self.hi {
+            Sign::of_cmp(h.partial_cmp(&self.lo))
+        } else if h <= self.lo {
+            Sign::Negative
+        } else {
+            Sign::Positive
+        }
+    }
+}
+
+impl fmt::Display for Level {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&rat_to_string(&self.value))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::exact::parse_rational;
+
+    #[test]
+    fn sign_is_exact_next_to_a_non_double_level() {
+        let c = Level::new(parse_rational("0.6").unwrap());
+        let f32_06 = 0.6f32 as f64; // 0.60000002384...
+        assert_eq!(c.sign_of(0.6), Sign::Negative); // the double 0.6 is below 3/5
+        assert_eq!(c.sign_of(f32_06), Sign::Positive);
+        assert_eq!(c.sign_of(0.6f64.next_up()), Sign::Positive);
+        let third = Level::new(parse_rational("1/3").unwrap());
+        assert_eq!(third.sign_of(1.0 / 3.0), Sign::Negative);
+        assert_eq!(third.sign_of((1.0f64 / 3.0).next_up()), Sign::Positive);
+    }
+
+    #[test]
+    fn sign_is_zero_only_on_the_level() {
+        let c = Level::new(parse_rational("5/4").unwrap());
+        assert_eq!(c.sign_of(1.25), Sign::Zero);
+        assert_eq!(c.sign_of(1.25f64.next_down()), Sign::Negative);
+        assert_eq!(c.sign_of(1.25f64.next_up()), Sign::Positive);
+    }
+}

@@ -1,0 +1,184 @@
+//! Input: text as a user types a number (`0.6`, `10.35`, `3/5`, `-1e-3`).
+//! Output: the exact rational it denotes ([`Rat`]), and the canonical
+//! `"p/q"` text of the interchange format.
+//!
+//! Parsing never goes through `f64`: `0.2` is exactly `1/5`.
+
+use num_bigint::BigInt;
+use num_rational::BigRational;
+use num_traits::{One, Signed, ToPrimitive, Zero};
+
+/// The exact rational type used on the exact side of the pipeline.
+pub type Rat = BigRational;
+
+/// Why a number could not be parsed exactly.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum RationalParseError {
+    /// The text is empty.
+    #[error("empty number")]
+    Empty,
+    /// The text is not a decimal, a fraction `p/q` or a scientific number.
+    #[error("'{0}' is not a number (expected e.g. 0.6, 3/5, -1e-3)")]
+    Syntax(String),
+    /// The denominator of `p/q` is zero.
+    #[error("'{0}' has a zero denominator")]
+    ZeroDenominator(String),
+    /// The exponent is too large to expand exactly.
+    #[error("'{0}' has an exponent outside -4000..=4000")]
+    ExponentRange(String),
+}
+
+/// Parses a decimal (`10.35`, `-.5`, `1e-3`, `2.5E+2`) or a fraction
+/// (`3/5`, `-7/2`) exactly.
+///
+/// ```
+/// use wmslice::exact::{parse_rational, Rat};
+/// let r = parse_rational("0.2").unwrap();
+/// assert_eq!(r, Rat::new(1.into(), 5.into()));
+/// assert_eq!(parse_rational("-1e-3").unwrap(), Rat::new((-1).into(), 1000.into()));
+/// ```
+pub fn parse_rational(text: &str) -> Result<Rat, RationalParseError> {
+    let t = text.trim();
+    if t.is_empty() {
+        return Err(RationalParseError::Empty);
+    }
+    if let Some((p, q)) = t.split_once('/') {
+        let num = parse_decimal(p.trim()).ok_or_else(|| syntax(t))?;
+        let den = parse_decimal(q.trim()).ok_or_else(|| syntax(t))?;
+        if den.is_zero() {
+            return Err(RationalParseError::ZeroDenominator(t.to_string()));
+        }
+        return Ok(num / den);
+    }
+    match parse_decimal_checked(t) {
+        Ok(r) => Ok(r),
+        Err(e) => Err(e),
+    }
+}
+
+fn syntax(t: &str) -> RationalParseError {
+    RationalParseError::Syntax(t.to_string())
+}
+
+fn parse_decimal(t: &str) -> Option<Rat> {
+    parse_decimal_checked(t).ok()
+}
+
+fn parse_decimal_checked(t: &str) -> Result<Rat, RationalParseError> {
+    let (mantissa, exponent) = match t.find(['e', 'E']) {
+        Some(i) => {
+            let exp: i32 = t[i + 1..].parse().map_err(|_| syntax(t))?;
+            (&t[..i], exp)
+        }
+        None => (t, 0),
+    };
+    if !(-4000..=4000).contains(&exponent) {
+        return Err(RationalParseError::ExponentRange(t.to_string()));
+    }
+    let (negative, digits) = match mantissa.as_bytes().first() {
+        Some(b'-') => (true, &mantissa[1..]),
+        Some(b'+') => (false, &mantissa[1..]),
+        _ => (false, mantissa),
+    };
+    let (int_part, frac_part) = digits.split_once('.').unwrap_or((digits, ""));
+    if int_part.is_empty() && frac_part.is_empty() {
+        return Err(syntax(t));
+    }
+    if !int_part.bytes().all(|b| b.is_ascii_digit()) || !frac_part.bytes().all(|b| b.is_ascii_digit())
+    {
+        return Err(syntax(t));
+    }
+    let all_digits = format!("{int_part}{frac_part}");
+    let mut num: BigInt = if all_digits.is_empty() {
+        BigInt::zero()
+    } else {
+        all_digits.parse().map_err(|_| syntax(t))?
+    };
+    if negative {
+        num = -num;
+    }
+    let scale = exponent - frac_part.len() as i32;
+    let ten = BigInt::from(10u32);
+    let r = if scale >= 0 {
+        Rat::from_integer(num * num_traits::pow(ten, scale as usize))
+    } else {
+        Rat::new(num, num_traits::pow(ten, (-scale) as usize))
+    };
+    Ok(r)
+}
+
+/// The canonical text of an exact rational: `"p"` or `"p/q"` in lowest terms
+/// with `q > 1` (the interchange format's `rational`).
+pub fn rat_to_string(r: &Rat) -> String {
+    if r.denom().is_one() {
+        r.numer().to_string()
+    } else {
+        format!("{}/{}", r.numer(), r.denom())
+    }
+}
+
+/// The exact value of a finite `f64` (every finite float is a dyadic rational).
+///
+/// Non-finite inputs are rejected by validation before any exact arithmetic;
+/// here they map to zero so that no caller can panic.
+pub fn rat_from_f64(x: f64) -> Rat {
+    Rat::from_float(x).unwrap_or_else(Rat::zero)
+}
+
+/// The `f64` nearest to `r` (ties to even): the only rounding step, used for
+/// output. Exact when `r` is representable.
+pub fn rat_to_f64(r: &Rat) -> f64 {
+    // num-rational rounds the quotient correctly for BigRational.
+    r.to_f64().unwrap_or(if r.is_negative() {
+        f64::NEG_INFINITY
+    } else {
+        f64::INFINITY
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn r(p: i64, q: i64) -> Rat {
+        Rat::new(p.into(), q.into())
+    }
+
+    #[test]
+    fn decimals_are_exact() {
+        assert_eq!(parse_rational("0.6").unwrap(), r(3, 5));
+        assert_eq!(parse_rational("10.35").unwrap(), r(207, 20));
+        assert_eq!(parse_rational("-1e-3").unwrap(), r(-1, 1000));
+        assert_eq!(parse_rational("2.5E+2").unwrap(), r(250, 1));
+        assert_eq!(parse_rational(".5").unwrap(), r(1, 2));
+        assert_eq!(parse_rational("3/5").unwrap(), r(3, 5));
+        assert_eq!(parse_rational("-6/10").unwrap(), r(-3, 5));
+        assert_eq!(parse_rational("0.1/0.3").unwrap(), r(1, 3));
+    }
+
+    #[test]
+    fn bad_numbers_are_typed_errors() {
+        assert_eq!(parse_rational(""), Err(RationalParseError::Empty));
+        assert!(matches!(parse_rational("abc"), Err(RationalParseError::Syntax(_))));
+        assert!(matches!(parse_rational("1/0"), Err(RationalParseError::ZeroDenominator(_))));
+        assert!(matches!(parse_rational("1e99999"), Err(RationalParseError::ExponentRange(_))));
+        assert!(matches!(parse_rational("1.2.3"), Err(RationalParseError::Syntax(_))));
+        assert!(matches!(parse_rational("-"), Err(RationalParseError::Syntax(_))));
+    }
+
+    #[test]
+    fn canonical_text() {
+        assert_eq!(rat_to_string(&r(6, 10)), "3/5");
+        assert_eq!(rat_to_string(&r(-4, 2)), "-2");
+        assert_eq!(rat_to_string(&r(0, 7)), "0");
+    }
+
+    #[test]
+    fn float_round_trip_is_exact() {
+        for x in [0.1, -0.0, 1e-300, 3.0e20, f64::MIN_POSITIVE, 0.6f32 as f64] {
+            assert_eq!(rat_to_f64(&rat_from_f64(x)), x);
+        }
+        // 1/3 rounds to the nearest double.
+        assert_eq!(rat_to_f64(&r(1, 3)), 1.0 / 3.0);
+    }
+}

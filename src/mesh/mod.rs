@@ -1,0 +1,52 @@
+//! Input: mesh files or in-memory triangle soups. Output: a [`Mesh`] (vertex
+//! positions exactly as read, faces as vertex-id triples), its
+//! [`Topology`](topology::Topology) and its validation [`Report`](validate::Report).
+//!
+//! Nothing here rounds: positions are kept as the exact binary floating-point
+//! values the file holds (every finite `f64` is an exact dyadic rational).
+
+pub mod io;
+pub mod topology;
+pub mod validate;
+pub mod weld;
+
+use crate::ids::VertexId;
+
+/// A triangle mesh as read: positions and faces, not yet validated.
+///
+/// Faces are counter-clockwise seen from outside (outward normals) in an
+/// accepted mesh; indices may be out of range here, validation reports it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    /// Vertex positions, exact as read (or as snapped).
+    pub positions: Vec<[f64; 3]>,
+    /// Faces as vertex-id triples, in the file's vertex order.
+    pub faces: Vec<[VertexId; 3]>,
+}
+
+impl Mesh {
+    /// Builds a mesh from positions and `u32` index triples.
+    pub fn from_raw(positions: Vec<[f64; 3]>, faces: Vec<[u32; 3]>) -> Self {
+        let faces = faces
+            .into_iter()
+            .map(|[a, b, c]| [VertexId(a), VertexId(b), VertexId(c)])
+            .collect();
+        Mesh { positions, faces }
+    }
+
+    /// Number of vertices.
+    pub fn num_vertices(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// Number of faces.
+    pub fn num_faces(&self) -> usize {
+        self.faces.len()
+    }
+
+    /// The position of a vertex (exact as stored).
+    #[inline]
+    pub fn pos(&self, v: VertexId) -> [f64; 3] {
+        self.positions[v.idx()]
+    }
+}

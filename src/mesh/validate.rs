@@ -1,0 +1,517 @@
+//! Input: a [`Mesh`] as loaded. Output: a [`Report`]: counts, genus,
+//! bounding box, exact volume and every [`Defect`] with the element ids it
+//! concerns, and the [`Topology`] when the mesh is structurally sound.
+//!
+//! A mesh is accepted for slicing (SPEC section 1) when it has no defect of
+//! [`Severity::Error`]: closed, every edge in exactly two faces with
+//! opposite directions, every vertex link one cycle, no fold, finite
+//! coordinates, indices in range, no repeated vertex in a face, no duplicate
+//! face, and exact signed volume > 0. Zero-area faces and unused vertices
+//! are reported as warnings; they stay sliceable. Every test is exact.
+
+use crate::exact::predicates::{is_degenerate_triangle, orient2d_axes, orient3d, Sign};
+use crate::exact::rational::{rat_to_string, Rat};
+use crate::exact::volume::signed_volume;
+use crate::ids::{FaceId, VertexId};
+use crate::mesh::topology::{Topology, TopologyIssue};
+use crate::mesh::Mesh;
+use num_traits::Signed;
+use std::collections::HashMap;
+use std::fmt;
+
+/// At most this many defects are listed; the rest are counted.
+pub const MAX_LISTED_DEFECTS: usize = 1000;
+
+/// Whether a defect blocks slicing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Severity {
+    /// The slicer rejects the mesh.
+    Error,
+    /// Reported; the mesh stays sliceable.
+    Warning,
+}
+
+/// One defect of a mesh, naming the elements involved.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error, serde::Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Defect {
+    /// The mesh has no face.
+    #[error("the mesh has no faces")]
+    Empty,
+    /// A face refers to a vertex that does not exist.
+    #[error("face {face} corner {corner} refers to vertex {index}, but there are only {vertices} vertices")]
+    IndexOutOfRange {
+        /// The face.
+        face: FaceId,
+        /// Corner 0, 1 or 2.
+        corner: u8,
+        /// The bad index.
+        index: u32,
+        /// The number of vertices.
+        vertices: usize,
+    },
+    /// A coordinate is NaN or infinite.
+    #[error("vertex {vertex} has a non-finite coordinate")]
+    NonFiniteCoordinate {
+        /// The vertex.
+        vertex: VertexId,
+    },
+    /// A face uses one vertex twice.
+    #[error("face {face} repeats a vertex")]
+    RepeatedVertex {
+        /// The face.
+        face: FaceId,
+    },
+    /// The same three vertices form two faces.
+    #[error("face {face} duplicates face {first}")]
+    DuplicateFace {
+        /// The later face.
+        face: FaceId,
+        /// The first face with these vertices.
+        first: FaceId,
+    },
+    /// An edge with only one face: the mesh is not closed.
+    #[error("open edge {a}-{b}: only face {face} uses it")]
+    OpenEdge {
+        /// Endpoint.
+        a: VertexId,
+        /// Endpoint.
+        b: VertexId,
+        /// The single face.
+        face: FaceId,
+    },
+    /// An edge shared by more than two faces.
+    #[error("non-manifold edge {a}-{b} is shared by {} faces: {}", faces.len(), list(faces))]
+    NonManifoldEdge {
+        /// Endpoint.
+        a: VertexId,
+        /// Endpoint.
+        b: VertexId,
+        /// Every face on the edge.
+        faces: Vec<FaceId>,
+    },
+    /// A face whose three edges all run the same way as its neighbours'.
+    #[error("face {face} is flipped: all its edges run the same way as its neighbours'")]
+    FlippedFace {
+        /// The face.
+        face: FaceId,
+    },
+    /// Two faces traverse an edge in the same direction.
+    #[error("edge {a}-{b} is traversed the same way by faces {}: inconsistent orientation", list(faces))]
+    InconsistentEdge {
+        /// Endpoint.
+        a: VertexId,
+        /// Endpoint.
+        b: VertexId,
+        /// The two faces.
+        faces: Vec<FaceId>,
+    },
+    /// The faces around a vertex form several cycles (a pinch point).
+    #[error("bowtie vertex {vertex}: its faces form {cycles} separate fans")]
+    BowtieVertex {
+        /// The vertex.
+        vertex: VertexId,
+        /// Number of fans.
+        cycles: usize,
+    },
+    /// Two faces on one edge lie in one plane on the same side of it
+    /// (zero-thickness fold), decided with exact orient3d and orient2d.
+    #[error("faces {} fold onto each other along edge {a}-{b}", list(faces))]
+    Fold {
+        /// Endpoint.
+        a: VertexId,
+        /// Endpoint.
+        b: VertexId,
+        /// The two faces.
+        faces: Vec<FaceId>,
+    },
+    /// The exact signed volume is not positive: the mesh is inside out.
+    #[error("signed volume {volume} is not positive: faces must be counter-clockwise seen from outside")]
+    NotOutward {
+        /// The exact signed volume.
+        volume: String,
+    },
+    /// A face of zero area (accepted: it stays sliceable).
+    #[error("face {face} has zero area")]
+    ZeroAreaFace {
+        /// The face.
+        face: FaceId,
+    },
+    /// A vertex no face uses (accepted and ignored).
+    #[error("vertex {vertex} is not used by any face")]
+    UnusedVertex {
+        /// The vertex.
+        vertex: VertexId,
+    },
+}
+
+fn list(faces: &[FaceId]) -> String {
+    faces.iter().map(|f| f.to_string()).collect::<Vec<_>>().join(", ")
+}
+
+impl Defect {
+    /// Whether this defect blocks slicing.
+    pub fn severity(&self) -> Severity {
+        match self {
+            Defect::ZeroAreaFace { .. } | Defect::UnusedVertex { .. } => Severity::Warning,
+            _ => Severity::Error,
+        }
+    }
+}
+
+/// Counts and exact measures of a mesh.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Stats {
+    /// Number of vertices (as stored).
+    pub vertices: usize,
+    /// Number of faces.
+    pub faces: usize,
+    /// Number of undirected edges.
+    pub edges: usize,
+    /// Connected components (of faces across shared edges).
+    pub components: usize,
+    /// V - E + F over the used vertices.
+    pub euler_characteristic: i64,
+    /// `(2 C - chi) / 2` for a closed orientable surface, else `None`.
+    pub genus: Option<i64>,
+    /// Exact coordinates as stored: `[min, max]` per axis.
+    pub bounding_box: Option<[[f64; 3]; 2]>,
+    /// Exact signed volume, as `"p/q"`.
+    pub volume: String,
+}
+
+/// The result of validation.
+#[derive(Clone, Debug)]
+pub struct Report {
+    /// Counts and measures.
+    pub stats: Stats,
+    /// Listed defects (at most [`MAX_LISTED_DEFECTS`]).
+    pub defects: Vec<Defect>,
+    /// Defects found beyond the listed ones.
+    pub unlisted: usize,
+    /// The exact signed volume.
+    pub volume: Rat,
+    /// The tables, when indices are in range and faces are proper triangles.
+    pub topology: Option<Topology>,
+}
+
+impl Report {
+    /// Whether the slicer accepts the mesh (no error-severity defect).
+    pub fn is_accepted(&self) -> bool {
+        self.unlisted == 0 && self.defects.iter().all(|d| d.severity() == Severity::Warning)
+    }
+
+    /// The blocking defects.
+    pub fn errors(&self) -> impl Iterator<Item = &Defect> {
+        self.defects.iter().filter(|d| d.severity() == Severity::Error)
+    }
+}
+
+struct Sink {
+    defects: Vec<Defect>,
+    unlisted: usize,
+}
+
+impl Sink {
+    fn push(&mut self, d: Defect) {
+        if self.defects.len() < MAX_LISTED_DEFECTS {
+            self.defects.push(d);
+        } else {
+            self.unlisted += 1;
+        }
+    }
+}
+
+/// Validates a mesh: every defect of SPEC section 1, exactly.
+pub fn validate(mesh: &Mesh) -> Report {
+    let mut sink = Sink {
+        defects: Vec::new(),
+        unlisted: 0,
+    };
+    let nv = mesh.num_vertices();
+    if mesh.faces.is_empty() {
+        sink.push(Defect::Empty);
+    }
+    for (v, p) in mesh.positions.iter().enumerate() {
+        if !p.iter().all(|x| x.is_finite()) {
+            sink.push(Defect::NonFiniteCoordinate {
+                vertex: VertexId::from_idx(v),
+            });
+        }
+    }
+    let mut structural = true;
+    for (f, tri) in mesh.faces.iter().enumerate() {
+        let face = FaceId::from_idx(f);
+        for (c, v) in tri.iter().enumerate() {
+            if v.idx() >= nv {
+                structural = false;
+                sink.push(Defect::IndexOutOfRange {
+                    face,
+                    corner: c as u8,
+                    index: v.0,
+                    vertices: nv,
+                });
+            }
+        }
+        if tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2] {
+            structural = false;
+            sink.push(Defect::RepeatedVertex { face });
+        }
+    }
+
+    let volume = if structural {
+        signed_volume(mesh)
+    } else {
+        Rat::default()
+    };
+    let bounding_box = bounding_box(mesh);
+    let mut stats = Stats {
+        vertices: nv,
+        faces: mesh.num_faces(),
+        edges: 0,
+        components: 0,
+        euler_characteristic: 0,
+        genus: None,
+        bounding_box,
+        volume: rat_to_string(&volume),
+    };
+    if !structural {
+        return Report {
+            stats,
+            defects: sink.defects,
+            unlisted: sink.unlisted,
+            volume,
+            topology: None,
+        };
+    }
+
+    duplicate_faces(mesh, &mut sink);
+    let (topo, issues) = Topology::build(mesh);
+    let closed_manifold = issues.is_empty();
+    report_topology_issues(mesh, issues, &mut sink);
+
+    let finite = mesh.positions.iter().all(|p| p.iter().all(|x| x.is_finite()));
+    let mut used = vec![false; nv];
+    for tri in &mesh.faces {
+        for v in tri {
+            used[v.idx()] = true;
+        }
+    }
+    for (v, &u) in used.iter().enumerate() {
+        if !u {
+            sink.push(Defect::UnusedVertex {
+                vertex: VertexId::from_idx(v),
+            });
+        }
+    }
+    if finite {
+        for (f, tri) in mesh.faces.iter().enumerate() {
+            let [a, b, c] = tri.map(|v| mesh.pos(v));
+            if is_degenerate_triangle(a, b, c) {
+                sink.push(Defect::ZeroAreaFace {
+                    face: FaceId::from_idx(f),
+                });
+            }
+        }
+        if closed_manifold {
+            folds(mesh, &topo, &mut sink);
+        }
+    }
+    if closed_manifold && finite && !volume.is_positive() {
+        sink.push(Defect::NotOutward {
+            volume: rat_to_string(&volume),
+        });
+    }
+
+    let used_count = used.iter().filter(|&&u| u).count() as i64;
+    stats.edges = topo.num_edges();
+    stats.euler_characteristic = used_count - stats.edges as i64 + stats.faces as i64;
+    stats.components = components(mesh, &topo);
+    if closed_manifold {
+        stats.genus = Some((2 * stats.components as i64 - stats.euler_characteristic) / 2);
+    }
+    Report {
+        stats,
+        defects: sink.defects,
+        unlisted: sink.unlisted,
+        volume,
+        topology: closed_manifold.then_some(topo),
+    }
+}
+
+fn bounding_box(mesh: &Mesh) -> Option<[[f64; 3]; 2]> {
+    let mut it = mesh.positions.iter().filter(|p| p.iter().all(|x| x.is_finite()));
+    let first = *it.next()?;
+    let mut bb = [first, first];
+    for p in it {
+        for k in 0..3 {
+            bb[0][k] = bb[0][k].min(p[k]);
+            bb[1][k] = bb[1][k].max(p[k]);
+        }
+    }
+    Some(bb)
+}
+
+fn duplicate_faces(mesh: &Mesh, sink: &mut Sink) {
+    let mut seen: HashMap<[VertexId; 3], FaceId> = HashMap::with_capacity(mesh.num_faces());
+    for (f, tri) in mesh.faces.iter().enumerate() {
+        let mut key = *tri;
+        key.sort_unstable();
+        let face = FaceId::from_idx(f);
+        match seen.entry(key) {
+            std::collections::hash_map::Entry::Occupied(e) => sink.push(Defect::DuplicateFace {
+                face,
+                first: *e.get(),
+            }),
+            std::collections::hash_map::Entry::Vacant(e) => {
+                e.insert(face);
+            }
+        }
+    }
+}
+
+fn report_topology_issues(mesh: &Mesh, issues: Vec<TopologyIssue>, sink: &mut Sink) {
+    // A face whose three edges are all inconsistent is named as flipped.
+    let mut inconsistent: Vec<([VertexId; 2], Vec<FaceId>)> = Vec::new();
+    let mut per_face: HashMap<FaceId, u8> = HashMap::new();
+    for issue in issues {
+        match issue {
+            TopologyIssue::BadEdge {
+                v,
+                forward,
+                backward,
+            } => {
+                let all: Vec<FaceId> = forward.iter().chain(&backward).copied().collect();
+                match (forward.len(), backward.len()) {
+                    (1, 0) | (0, 1) => sink.push(Defect::OpenEdge {
+                        a: v[0],
+                        b: v[1],
+                        face: all[0],
+                    }),
+                    (2, 0) | (0, 2) => {
+                        for f in &all {
+                            *per_face.entry(*f).or_default() += 1;
+                        }
+                        inconsistent.push((v, all));
+                    }
+                    _ => sink.push(Defect::NonManifoldEdge {
+                        a: v[0],
+                        b: v[1],
+                        faces: all,
+                    }),
+                }
+            }
+            TopologyIssue::Bowtie { vertex, cycles } => {
+                sink.push(Defect::BowtieVertex { vertex, cycles })
+            }
+        }
+    }
+    let mut flipped: Vec<FaceId> = per_face
+        .iter()
+        .filter(|(_, &n)| n == 3)
+        .map(|(&f, _)| f)
+        .collect();
+    flipped.sort_unstable();
+    for &face in &flipped {
+        sink.push(Defect::FlippedFace { face });
+    }
+    let _ = mesh;
+    for (v, faces) in inconsistent {
+        if faces.iter().any(|f| flipped.binary_search(f).is_ok()) {
+            continue;
+        }
+        sink.push(Defect::InconsistentEdge {
+            a: v[0],
+            b: v[1],
+            faces,
+        });
+    }
+}
+
+/// Two faces on an edge, coplanar (exact orient3d), with their third
+/// vertices on the same side of the edge within that plane (exact orient2d
+/// in a projection where the first face is not degenerate).
+fn folds(mesh: &Mesh, topo: &Topology, sink: &mut Sink) {
+    for e in &topo.edges {
+        let a = mesh.pos(e.v[0]);
+        let b = mesh.pos(e.v[1]);
+        let c = mesh.pos(e.opposite[0]);
+        let d = mesh.pos(e.opposite[1]);
+        if orient3d(a, b, c, d) != Sign::Zero {
+            continue;
+        }
+        if is_degenerate_triangle(a, b, c) || is_degenerate_triangle(a, b, d) {
+            continue;
+        }
+        let axes = [(0, 1), (1, 2), (2, 0)]
+            .into_iter()
+            .find(|&(i, j)| orient2d_axes(a, b, c, i, j) != Sign::Zero);
+        if let Some((i, j)) = axes {
+            if orient2d_axes(a, b, c, i, j) == orient2d_axes(a, b, d, i, j) {
+                sink.push(Defect::Fold {
+                    a: e.v[0],
+                    b: e.v[1],
+                    faces: e.faces.to_vec(),
+                });
+            }
+        }
+    }
+}
+
+fn components(mesh: &Mesh, topo: &Topology) -> usize {
+    let n = mesh.num_faces();
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    fn find(p: &mut [u32], mut x: u32) -> u32 {
+        while p[x as usize] != x {
+            p[x as usize] = p[p[x as usize] as usize];
+            x = p[x as usize];
+        }
+        x
+    }
+    for e in &topo.edges {
+        let [f, g] = e.faces;
+        if f.idx() < n && g.idx() < n {
+            let (rf, rg) = (find(&mut parent, f.0), find(&mut parent, g.0));
+            if rf != rg {
+                parent[rf as usize] = rg;
+            }
+        }
+    }
+    (0..n as u32).filter(|&x| find(&mut parent, x) == x).count()
+}
+
+impl fmt::Display for Report {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let s = &self.stats;
+        writeln!(f, "vertices   {}", s.vertices)?;
+        writeln!(f, "faces      {}", s.faces)?;
+        writeln!(f, "edges      {}", s.edges)?;
+        writeln!(f, "components {}", s.components)?;
+        writeln!(f, "euler      {}", s.euler_characteristic)?;
+        match s.genus {
+            Some(g) => writeln!(f, "genus      {g}")?,
+            None => writeln!(f, "genus      - (not a closed manifold)")?,
+        }
+        if let Some([lo, hi]) = s.bounding_box {
+            writeln!(f, "bbox       [{}, {}, {}] .. [{}, {}, {}]", lo[0], lo[1], lo[2], hi[0], hi[1], hi[2])?;
+        }
+        writeln!(f, "volume     {} (~{})", s.volume, crate::exact::rational::rat_to_f64(&self.volume))?;
+        for d in &self.defects {
+            let tag = match d.severity() {
+                Severity::Error => "error",
+                Severity::Warning => "warning",
+            };
+            writeln!(f, "{tag}: {d}")?;
+        }
+        if self.unlisted > 0 {
+            writeln!(f, "... and {} more defects", self.unlisted)?;
+        }
+        let verdict = if self.is_accepted() {
+            "accepted for slicing"
+        } else {
+            "REJECTED for slicing"
+        };
+        write!(f, "{verdict}")
+    }
+}
