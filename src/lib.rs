@@ -17,3 +17,12 @@ pub mod mesh;
 pub use ids::{EdgeId, FaceId, VertexId};
 pub use mesh::Mesh;
 pub mod exact;
+pub mod chain;
+pub mod classify;
+pub mod levelset;
+pub mod nest;
+pub mod segment;
+
+pub use levelset::{LevelSet, SliceError, Slicer};
+pub mod output;
+pub mod naive;

@@ -1,0 +1,136 @@
+//! Input: vertex signs and the edge table. Output: the face regions F
+//! (faces with all three vertices in the plane, joined across in-plane
+//! edges), each with its facing, exact area and boundary half-edges dF.
+
+use crate::exact::predicates::orient2d_xy;
+use crate::exact::rational::{rat_from_f64, Rat};
+use crate::exact::Sign;
+use crate::ids::{EdgeId, FaceId, VertexId};
+use crate::mesh::topology::Topology;
+use crate::mesh::Mesh;
+use num_traits::{Signed, Zero};
+
+/// Which way an in-plane region faces (SPEC section 3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Facing {
+    /// Counter-clockwise in `(x, y)`: outward normal `+z`, material below.
+    Up,
+    /// Clockwise: outward normal `-z`, material above.
+    Down,
+    /// Every face of the region has zero area.
+    Flat,
+}
+
+/// A boundary half-edge of a region: runs `from -> to` as its region face
+/// traverses it (the direction dF follows).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BoundaryEdge {
+    /// The undirected edge.
+    pub edge: EdgeId,
+    /// Start vertex (in the region face's order).
+    pub from: VertexId,
+    /// End vertex.
+    pub to: VertexId,
+    /// The region face that owns the half-edge.
+    pub face: FaceId,
+}
+
+/// A connected region of in-plane faces (faces sharing in-plane edges).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Region {
+    /// Faces, ascending.
+    pub faces: Vec<FaceId>,
+    /// Facing of its non-zero-area faces.
+    pub facing: Facing,
+    /// Exact area (unsigned), in the mesh's units squared.
+    pub area: Rat,
+    /// Boundary half-edges dF, unordered (chained later).
+    pub boundary: Vec<BoundaryEdge>,
+}
+
+/// The facing of one in-plane face, from the exact orientation of its
+/// `(x, y)` projection.
+pub fn face_facing(mesh: &Mesh, f: FaceId) -> Facing {
+    let [a, b, c] = mesh.faces[f.idx()].map(|v| mesh.pos(v));
+    match orient2d_xy(a, b, c) {
+        Sign::Positive => Facing::Up,
+        Sign::Negative => Facing::Down,
+        Sign::Zero => Facing::Flat,
+    }
+}
+
+fn twice_area_xy(mesh: &Mesh, f: FaceId) -> Rat {
+    let [a, b, c] = mesh.faces[f.idx()].map(|v| mesh.pos(v).map(rat_from_f64));
+    (&b[0] - &a[0]) * (&c[1] - &a[1]) - (&b[1] - &a[1]) * (&c[0] - &a[0])
+}
+
+/// Finds the face regions among `in_plane` faces (all three signs zero).
+/// `region_of` is filled with each in-plane face's region index.
+pub fn face_regions(
+    mesh: &Mesh,
+    topo: &Topology,
+    signs: &[Sign],
+    in_plane: &[FaceId],
+    region_of: &mut std::collections::HashMap<FaceId, u32>,
+) -> Vec<Region> {
+    region_of.clear();
+    let is_in_plane = |f: FaceId| {
+        mesh.faces[f.idx()]
+            .iter()
+            .all(|v| signs[v.idx()] == Sign::Zero)
+    };
+    let mut regions = Vec::new();
+    let mut sorted: Vec<FaceId> = in_plane.to_vec();
+    sorted.sort_unstable();
+    for &seed in &sorted {
+        if region_of.contains_key(&seed) {
+            continue;
+        }
+        let r = regions.len() as u32;
+        let mut faces = vec![seed];
+        region_of.insert(seed, r);
+        let mut stack = vec![seed];
+        let mut boundary = Vec::new();
+        while let Some(f) = stack.pop() {
+            let tri = mesh.faces[f.idx()];
+            for c in 0..3 {
+                let e = topo.face_edges[f.idx()][c];
+                let edge = topo.edge(e);
+                let other = if edge.faces[0] == f { edge.faces[1] } else { edge.faces[0] };
+                if is_in_plane(other) {
+                    if !region_of.contains_key(&other) {
+                        region_of.insert(other, r);
+                        faces.push(other);
+                        stack.push(other);
+                    }
+                } else {
+                    boundary.push(BoundaryEdge {
+                        edge: e,
+                        from: tri[c],
+                        to: tri[(c + 1) % 3],
+                        face: f,
+                    });
+                }
+            }
+        }
+        faces.sort_unstable();
+        let mut facing = Facing::Flat;
+        let mut twice = Rat::zero();
+        for &f in &faces {
+            let fa = face_facing(mesh, f);
+            if facing == Facing::Flat {
+                facing = fa;
+            }
+            twice += twice_area_xy(mesh, f).abs();
+        }
+        boundary.sort_unstable_by_key(|b| b.edge);
+        regions.push(Region {
+            faces,
+            facing,
+            area: twice / Rat::from_integer(2.into()),
+            boundary,
+        });
+    }
+    regions
+}

@@ -1,0 +1,93 @@
+//! The command-line surface (`shared/CLI.md`), parsed by clap.
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use std::path::PathBuf;
+
+/// Exact level sets of closed triangle meshes (weak-Morse slicing).
+#[derive(Parser, Debug)]
+#[command(name = "wmslice", version, about)]
+pub struct Cli {
+    /// The command.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Subcommands.
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Slice built-in datasets at their degenerate heights and explain them.
+    Demo,
+    /// Write a built-in dataset, or list them.
+    Gen(GenArgs),
+    /// Validate a mesh: counts, genus, bounding box, exact volume, defects.
+    Check(CheckArgs),
+    /// Compute exact level sets.
+    Slice(SliceArgs),
+}
+
+/// `wmslice gen`.
+#[derive(Args, Debug)]
+pub struct GenArgs {
+    /// List the datasets.
+    #[arg(long)]
+    pub list: bool,
+    /// Dataset name.
+    #[arg(required_unless_present = "list")]
+    pub name: Option<String>,
+    /// Output file (format by extension: stl, obj, off, ply).
+    #[arg(short, long, required_unless_present = "list")]
+    pub output: Option<PathBuf>,
+}
+
+/// `wmslice check`.
+#[derive(Args, Debug)]
+pub struct CheckArgs {
+    /// A mesh file or a built-in dataset name.
+    pub mesh: String,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+    /// Snap coordinates to the grid Q first (decimal or p/q).
+    #[arg(long, value_name = "Q")]
+    pub snap: Option<String>,
+}
+
+/// Output format of `slice`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Format {
+    /// The readable summary (default).
+    Summary,
+    /// The `wmslice-levelset` JSON document (SPEC section 9).
+    Json,
+}
+
+/// `wmslice slice`.
+#[derive(Args, Debug)]
+pub struct SliceArgs {
+    /// A mesh file (STL, OBJ, OFF, PLY, 3MF) or a built-in dataset name.
+    pub mesh: String,
+    /// A level, as typed (0.6, 10.35, 3/5, -1e-3): exact. Repeatable.
+    #[arg(long = "at", value_name = "Z", allow_hyphen_values = true)]
+    pub at: Vec<String>,
+    /// A file with one level per line (same syntax; # comments).
+    #[arg(long, value_name = "FILE")]
+    pub levels_file: Option<PathBuf>,
+    /// Snap coordinates to the grid Q (decimal or p/q) before slicing.
+    #[arg(long, value_name = "Q")]
+    pub snap: Option<String>,
+    /// Add exact rationals (points, areas) and mesh elements to JSON.
+    #[arg(long)]
+    pub exact: bool,
+    /// The strong-Morse slicer, for comparison only (wrong at degenerate levels).
+    #[arg(long)]
+    pub naive: bool,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Summary)]
+    pub format: Format,
+    /// Output file (default: stdout).
+    #[arg(short, long, value_name = "PATH")]
+    pub output: Option<PathBuf>,
+    /// No progress output.
+    #[arg(long)]
+    pub quiet: bool,
+}

@@ -1,0 +1,462 @@
+//! Input: a validated mesh and an exact level. Output: the complete
+//! [`LevelSet`] of SPEC sections 3 to 6: contours S_O, face regions F with
+//! their boundaries dF, ridges and valleys S_NO, extremal points P, saddles,
+//! and the one-sided limits L- and L+, every loop nested.
+//!
+//! Everything here is exact; points and areas are exact rationals in the
+//! mesh's units. Rounding happens only in `output`.
+
+pub mod check;
+pub mod ridges;
+
+use crate::chain::{chain_loops, ChainError};
+use crate::classify::{
+    edges::classify_edges, faces::face_regions, vertex_signs, vertices::extremum_kind, EdgeClass,
+    ExtremumKind, Facing, RidgeKind,
+};
+use crate::exact::point::signed_area;
+use crate::exact::rational::Rat;
+use crate::exact::{Level, Point2, Sign};
+use crate::ids::{EdgeId, FaceId, VertexId};
+use crate::mesh::topology::Topology;
+use crate::mesh::validate::{validate, Report};
+use crate::mesh::Mesh;
+use crate::nest::{nest, Role};
+use crate::segment::{edge_segments, face_segment, CutPoint, Segment, Side, Via};
+use num_traits::{One, Signed, Zero};
+use std::collections::HashMap;
+
+/// A closed, oriented loop with exact points.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Loop {
+    /// The mesh element each point lies on, in order (first not repeated).
+    pub cuts: Vec<CutPoint>,
+    /// Exact points, in the mesh's units.
+    pub points: Vec<Point2>,
+    /// Exact signed area (positive when counter-clockwise).
+    pub area: Rat,
+    /// Outer or hole, from the nesting depth in its family.
+    pub role: Role,
+    /// Index of the smallest enclosing loop of the same family.
+    pub parent: Option<usize>,
+}
+
+/// A face region F with its boundary loops dF.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FaceRegion {
+    /// Facing.
+    pub facing: Facing,
+    /// Its faces, ascending.
+    pub faces: Vec<FaceId>,
+    /// Exact unsigned area.
+    pub area: Rat,
+    /// Boundary loops in the direction the faces induce, nested within the
+    /// region.
+    pub boundary: Vec<Loop>,
+}
+
+/// A maximal S_NO polyline.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Ridge {
+    /// Ridge or valley.
+    pub kind: RidgeKind,
+    /// Closed cycle or open polyline.
+    pub closed: bool,
+    /// Vertices in order.
+    pub vertices: Vec<VertexId>,
+    /// Their exact points.
+    pub points: Vec<Point2>,
+}
+
+/// An isolated extremal vertex P.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExtremalPoint {
+    /// The vertex.
+    pub vertex: VertexId,
+    /// Min or max.
+    pub kind: ExtremumKind,
+    /// Its exact point.
+    pub point: Point2,
+}
+
+/// A saddle vertex with its `2m` S_O branches (`m >= 2`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Saddle {
+    /// The vertex.
+    pub vertex: VertexId,
+    /// Number of S_O branches `2m`.
+    pub branches: u32,
+}
+
+/// The weak-Morse level set of a mesh at one exact level.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LevelSet {
+    /// The exact level, in the mesh's units.
+    pub level: Rat,
+    /// S_O: oriented contours, material on the left.
+    pub contours: Vec<Loop>,
+    /// F with dF.
+    pub regions: Vec<FaceRegion>,
+    /// S_NO.
+    pub ridges: Vec<Ridge>,
+    /// P.
+    pub extrema: Vec<ExtremalPoint>,
+    /// Saddles.
+    pub saddles: Vec<Saddle>,
+    /// L-: the contour just below the level.
+    pub below: Vec<Loop>,
+    /// L+: the contour just above the level.
+    pub above: Vec<Loop>,
+}
+
+/// Why slicing failed.
+#[derive(Debug, thiserror::Error)]
+pub enum SliceError {
+    /// The mesh is not accepted (SPEC section 1); the report names every
+    /// defect.
+    #[error("the mesh is not a closed, consistently oriented 2-manifold:\n{0}")]
+    InvalidMesh(Box<Report>),
+    /// Chaining failed: an internal error.
+    #[error(transparent)]
+    Chain(#[from] ChainError),
+    /// An exact invariant of SPEC section 7 failed: an internal error.
+    #[error("invariant violated at level {level}: {what} (internal error, please report)")]
+    Invariant {
+        /// The level, as `p/q`.
+        level: String,
+        /// What failed.
+        what: String,
+    },
+}
+
+/// Slices one validated mesh at exact levels.
+///
+/// ```
+/// use wmslice::{datasets, exact::parse_rational, Slicer};
+/// let mesh = datasets::by_name("unit_cube").unwrap().build();
+/// let slicer = Slicer::new(&mesh).unwrap();
+/// let ls = slicer.slice_at(&parse_rational("1/2").unwrap()).unwrap();
+/// assert_eq!(ls.contours.len(), 1);
+/// assert_eq!(ls.contours[0].area, parse_rational("1").unwrap());
+/// // At the top face: one up-facing region, no contour.
+/// let top = slicer.slice_at(&parse_rational("1").unwrap()).unwrap();
+/// assert!(top.contours.is_empty());
+/// assert_eq!(top.regions.len(), 1);
+/// ```
+pub struct Slicer<'m> {
+    mesh: &'m Mesh,
+    topo: Topology,
+    unit: Rat,
+}
+
+impl<'m> Slicer<'m> {
+    /// Validates the mesh and builds its topology. The coordinates are
+    /// taken exactly as stored.
+    pub fn new(mesh: &'m Mesh) -> Result<Self, SliceError> {
+        Self::with_unit(mesh, Rat::one())
+    }
+
+    /// As [`Slicer::new`], for a mesh whose stored coordinates are integers
+    /// on the grid `unit` (a snapped mesh): the true coordinate is
+    /// `stored * unit`, exactly.
+    pub fn with_unit(mesh: &'m Mesh, unit: Rat) -> Result<Self, SliceError> {
+        let mut report = validate(mesh);
+        if !report.is_accepted() {
+            return Err(SliceError::InvalidMesh(Box::new(report)));
+        }
+        let topo = report.topology.take().unwrap_or_default();
+        Ok(Slicer { mesh, topo, unit })
+    }
+
+    /// The mesh's topology.
+    pub fn topology(&self) -> &Topology {
+        &self.topo
+    }
+
+    /// The mesh being sliced.
+    pub fn mesh(&self) -> &Mesh {
+        self.mesh
+    }
+
+    /// The complete level set at the exact level `c` (in the mesh's units).
+    pub fn slice_at(&self, c: &Rat) -> Result<LevelSet, SliceError> {
+        let grid_level = Level::new(c / &self.unit);
+        let mut ls = LevelBuilder::new(self, &grid_level).build()?;
+        if !self.unit.is_one() {
+            let u = &self.unit;
+            let u2 = u * u;
+            let scale = |l: &mut Loop| {
+                for p in &mut l.points {
+                    *p = p.scaled(u);
+                }
+                l.area *= &u2;
+            };
+            ls.contours.iter_mut().for_each(scale);
+            ls.below.iter_mut().for_each(scale);
+            ls.above.iter_mut().for_each(scale);
+            for r in &mut ls.regions {
+                r.area *= &u2;
+                r.boundary.iter_mut().for_each(scale);
+            }
+            for r in &mut ls.ridges {
+                r.points.iter_mut().for_each(|p| *p = p.scaled(u));
+            }
+            for e in &mut ls.extrema {
+                e.point = e.point.scaled(u);
+            }
+        }
+        ls.level = c.clone();
+        Ok(ls)
+    }
+}
+
+struct LevelBuilder<'a> {
+    mesh: &'a Mesh,
+    topo: &'a Topology,
+    level: &'a Level,
+    signs: Vec<Sign>,
+}
+
+impl<'a> LevelBuilder<'a> {
+    fn new(slicer: &'a Slicer<'a>, level: &'a Level) -> Self {
+        LevelBuilder {
+            mesh: slicer.mesh,
+            topo: &slicer.topo,
+            level,
+            signs: vertex_signs(slicer.mesh, level),
+        }
+    }
+
+    fn vertex_point(&self, v: VertexId) -> Point2 {
+        Point2::of_vertex(self.mesh.pos(v))
+    }
+
+    fn edge_point(&self, e: EdgeId) -> Point2 {
+        let [a, b] = self.topo.edge(e).v;
+        Point2::on_edge(self.mesh.pos(a), self.mesh.pos(b), self.level)
+    }
+
+    fn cut_point(&self, c: CutPoint) -> Point2 {
+        match c {
+            CutPoint::AtVertex(v) => self.vertex_point(v),
+            CutPoint::OnEdge(e) => self.edge_point(e),
+        }
+    }
+
+    fn build(self) -> Result<LevelSet, SliceError> {
+        let mesh = self.mesh;
+        let topo = self.topo;
+        let signs = &self.signs;
+        let zero = |v: VertexId| signs[v.idx()] == Sign::Zero;
+
+        // F: faces with three vertices on the plane.
+        let in_plane: Vec<FaceId> = (0..mesh.num_faces())
+            .map(FaceId::from_idx)
+            .filter(|&f| mesh.faces[f.idx()].iter().all(|&v| zero(v)))
+            .collect();
+        let mut region_of = HashMap::new();
+        let regions = face_regions(mesh, topo, signs, &in_plane, &mut region_of);
+
+        // In-plane edges, decided once each by the edge table.
+        let candidates: Vec<EdgeId> = (0..topo.num_edges())
+            .map(EdgeId::from_idx)
+            .filter(|&e| topo.edge(e).v.iter().all(|&v| zero(v)))
+            .collect();
+        let edges = classify_edges(topo, signs, &candidates, &regions, &region_of);
+
+        // S_O: crossed faces, transversal edges and shared dF edges.
+        let mut segments: Vec<Segment> = (0..mesh.num_faces())
+            .map(FaceId::from_idx)
+            .filter(|f| !region_of.contains_key(f))
+            .filter_map(|f| face_segment(mesh, topo, signs, f))
+            .collect();
+        segments.extend(edge_segments(&edges));
+        let contours = self.loops(&segments, |c| self.cut_point(c))?;
+
+        // Saddles: on-plane vertices with 2m >= 4 S_O branches.
+        let mut branches: HashMap<VertexId, u32> = HashMap::new();
+        for s in &segments {
+            for c in [s.from, s.to] {
+                if let CutPoint::AtVertex(v) = c {
+                    *branches.entry(v).or_default() += 1;
+                }
+            }
+        }
+        let mut saddles: Vec<Saddle> = branches
+            .into_iter()
+            .filter(|&(_, b)| b >= 4)
+            .map(|(vertex, branches)| Saddle { vertex, branches })
+            .collect();
+        saddles.sort_unstable_by_key(|s| s.vertex);
+
+        // dF: each region's boundary, chained by the same vertex rule.
+        let mut face_regions_out = Vec::with_capacity(regions.len());
+        for r in regions {
+            let segs: Vec<Segment> = r
+                .boundary
+                .iter()
+                .map(|b| Segment {
+                    from: CutPoint::AtVertex(b.from),
+                    to: CutPoint::AtVertex(b.to),
+                    via: Via::Edge(b.edge),
+                })
+                .collect();
+            let boundary = self.loops(&segs, |c| self.cut_point(c))?;
+            face_regions_out.push(FaceRegion {
+                facing: r.facing,
+                faces: r.faces,
+                area: r.area,
+                boundary,
+            });
+        }
+
+        // S_NO.
+        let sno: Vec<(EdgeId, [VertexId; 2], RidgeKind)> = edges
+            .iter()
+            .filter_map(|e| match e.class {
+                EdgeClass::Extremal(kind) => Some((e.edge, topo.edge(e.edge).v, kind)),
+                _ => None,
+            })
+            .collect();
+        let ridges = ridges::join_ridges(&sno)
+            .into_iter()
+            .map(|p| Ridge {
+                kind: p.kind,
+                closed: p.closed,
+                points: p.vertices.iter().map(|&v| self.vertex_point(v)).collect(),
+                vertices: p.vertices,
+            })
+            .collect();
+
+        // P.
+        let extrema = (0..mesh.num_vertices())
+            .map(VertexId::from_idx)
+            .filter(|&v| zero(v))
+            .filter_map(|v| {
+                extremum_kind(topo, signs, v).map(|kind| ExtremalPoint {
+                    vertex: v,
+                    kind,
+                    point: self.vertex_point(v),
+                })
+            })
+            .collect();
+
+        let below = self.one_sided(Side::Below)?;
+        let above = self.one_sided(Side::Above)?;
+
+        let ls = LevelSet {
+            level: self.level.value().clone(),
+            contours,
+            regions: face_regions_out,
+            ridges,
+            extrema,
+            saddles,
+            below,
+            above,
+        };
+        check_orientation(&ls)?;
+        Ok(ls)
+    }
+
+    /// L- or L+ by symbolic perturbation (SPEC section 6): every crossing
+    /// is strict; a crossing on an edge with an end on the plane sits at
+    /// that end. Loops that collapse to zero area in the limit (around an
+    /// extremal point or a ridge) bound no material and are dropped.
+    fn one_sided(&self, side: Side) -> Result<Vec<Loop>, SliceError> {
+        let perturbed: Vec<Sign> = self.signs.iter().map(|&s| side.perturb(s)).collect();
+        let segments: Vec<Segment> = (0..self.mesh.num_faces())
+            .map(FaceId::from_idx)
+            .filter_map(|f| face_segment(self.mesh, self.topo, &perturbed, f))
+            .collect();
+        let place = |c: CutPoint| match c {
+            CutPoint::OnEdge(e) => {
+                let [a, b] = self.topo.edge(e).v;
+                if self.signs[a.idx()] == Sign::Zero {
+                    CutPoint::AtVertex(a)
+                } else if self.signs[b.idx()] == Sign::Zero {
+                    CutPoint::AtVertex(b)
+                } else {
+                    c
+                }
+            }
+            c => c,
+        };
+        let mut loops = self.loops_with(&segments, place, |c| self.cut_point(c), true)?;
+        renest(&mut loops);
+        Ok(loops)
+    }
+
+    fn loops(
+        &self,
+        segments: &[Segment],
+        point: impl Fn(CutPoint) -> Point2,
+    ) -> Result<Vec<Loop>, SliceError> {
+        self.loops_with(segments, |c| c, point, false)
+    }
+
+    /// Chains, computes exact points and areas, and nests.
+    fn loops_with(
+        &self,
+        segments: &[Segment],
+        place: impl Fn(CutPoint) -> CutPoint,
+        point: impl Fn(CutPoint) -> Point2,
+        drop_collapsed: bool,
+    ) -> Result<Vec<Loop>, SliceError> {
+        let chains = chain_loops(self.topo, segments)?;
+        let mut loops = Vec::with_capacity(chains.len());
+        for ch in chains {
+            let cuts: Vec<CutPoint> = ch.iter().map(|&i| place(segments[i].from)).collect();
+            let points: Vec<Point2> = cuts.iter().map(|&c| point(c)).collect();
+            let area = signed_area(&points);
+            if drop_collapsed && area.is_zero() {
+                continue;
+            }
+            loops.push(Loop {
+                cuts,
+                points,
+                area,
+                role: Role::Outer,
+                parent: None,
+            });
+        }
+        renest(&mut loops);
+        Ok(loops)
+    }
+}
+
+/// Sets roles and parents of a family of loops.
+fn renest(loops: &mut [Loop]) {
+    let polys: Vec<Vec<Point2>> = loops.iter().map(|l| l.points.clone()).collect();
+    for (l, n) in loops.iter_mut().zip(nest(&polys)) {
+        l.role = n.role;
+        l.parent = n.parent;
+    }
+}
+
+/// SPEC 7.3, checked exactly: outer loops of S_O, L- and L+ have positive
+/// area, holes negative.
+fn check_orientation(ls: &LevelSet) -> Result<(), SliceError> {
+    for (name, family) in [("S_O", &ls.contours), ("L-", &ls.below), ("L+", &ls.above)] {
+        for (i, l) in family.iter().enumerate() {
+            let ok = match l.role {
+                Role::Outer => l.area.is_positive(),
+                Role::Hole => l.area.is_negative(),
+            };
+            if !ok {
+                return Err(SliceError::Invariant {
+                    level: crate::exact::rational::rat_to_string(&ls.level),
+                    what: format!("{name} loop {i} is {:?} but its exact area is {}", l.role, l.area),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The `2m` of a saddle, as `m`.
+impl Saddle {
+    /// `m`: 2 for an ordinary saddle, 3 for a monkey saddle.
+    pub fn m(&self) -> u32 {
+        self.branches / 2
+    }
+}

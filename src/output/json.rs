@@ -1,0 +1,229 @@
+//! Input: level sets. Output: the `wmslice-levelset` JSON document of SPEC
+//! section 9 (`levelset.schema.json`). Points are the nearest doubles of
+//! the exact values; with [`Exactness::WithExact`] the exact rationals are
+//! added (`exact`, `area_exact`) together with the mesh element each point
+//! lies on (`on`, an extra key).
+
+use crate::exact::rational::{rat_to_f64, rat_to_string, Rat};
+use crate::exact::Point2;
+use crate::levelset::{LevelSet, Loop};
+use crate::mesh::Mesh;
+use crate::nest::Role;
+use crate::segment::CutPoint;
+use serde::Serialize;
+use sha2::{Digest, Sha256};
+
+/// Whether exact rationals are written beside the rounded values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Exactness {
+    /// Rounded doubles only.
+    #[default]
+    Rounded,
+    /// Rounded doubles plus exact `"p/q"` strings.
+    WithExact,
+}
+
+/// The `mesh` header.
+#[derive(Clone, Debug, Serialize)]
+pub struct MeshHeader {
+    /// Vertex count.
+    pub vertices: usize,
+    /// Face count.
+    pub faces: usize,
+    /// SHA-256 of the mesh as sliced (see [`mesh_sha256`]).
+    pub sha256: String,
+    /// The snap grid, or null.
+    pub snap: Option<String>,
+}
+
+impl MeshHeader {
+    /// The header of a mesh, with its snap grid if any.
+    pub fn new(mesh: &Mesh, snap: Option<&Rat>) -> Self {
+        MeshHeader {
+            vertices: mesh.num_vertices(),
+            faces: mesh.num_faces(),
+            sha256: mesh_sha256(mesh),
+            snap: snap.map(rat_to_string),
+        }
+    }
+}
+
+/// SHA-256 of a mesh's canonical bytes: `"wmslice-mesh-v1"`, vertex and face
+/// counts as u64 LE, every coordinate as f64 LE bits, every index as u32
+/// LE. Independent of the file format the mesh came from.
+pub fn mesh_sha256(mesh: &Mesh) -> String {
+    let mut h = Sha256::new();
+    h.update(b"wmslice-mesh-v1");
+    h.update((mesh.num_vertices() as u64).to_le_bytes());
+    h.update((mesh.num_faces() as u64).to_le_bytes());
+    for p in &mesh.positions {
+        for x in p {
+            h.update(x.to_le_bytes());
+        }
+    }
+    for t in &mesh.faces {
+        for v in t {
+            h.update(v.0.to_le_bytes());
+        }
+    }
+    hex(&h.finalize())
+}
+
+/// Lower-case hex of bytes.
+pub fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+#[derive(Serialize)]
+struct Document<'a> {
+    format: &'static str,
+    version: u32,
+    mesh: &'a MeshHeader,
+    levels: Vec<JsonLevel>,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "lowercase")]
+enum On {
+    Edge(u32),
+    Vertex(u32),
+}
+
+#[derive(Serialize)]
+struct JsonLoop {
+    points: Vec<[f64; 2]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    exact: Option<Vec<[String; 2]>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    on: Option<Vec<On>>,
+    area: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    area_exact: Option<String>,
+    role: Role,
+    parent: Option<usize>,
+}
+
+#[derive(Serialize)]
+struct JsonRegion {
+    facing: crate::classify::Facing,
+    faces: Vec<u32>,
+    area: String,
+    boundary: Vec<JsonLoop>,
+}
+
+#[derive(Serialize)]
+struct JsonRidge {
+    kind: crate::classify::RidgeKind,
+    closed: bool,
+    vertices: Vec<u32>,
+    points: Vec<[f64; 2]>,
+}
+
+#[derive(Serialize)]
+struct JsonPoint {
+    vertex: u32,
+    kind: crate::classify::ExtremumKind,
+    point: [f64; 2],
+}
+
+#[derive(Serialize)]
+struct JsonSaddle {
+    vertex: u32,
+    branches: u32,
+}
+
+#[derive(Serialize)]
+struct JsonLevel {
+    z: String,
+    contours: Vec<JsonLoop>,
+    faces: Vec<JsonRegion>,
+    ridges: Vec<JsonRidge>,
+    points: Vec<JsonPoint>,
+    saddles: Vec<JsonSaddle>,
+    below: Vec<JsonLoop>,
+    above: Vec<JsonLoop>,
+}
+
+fn exact_xy(p: &Point2) -> [String; 2] {
+    [rat_to_string(&p.x), rat_to_string(&p.y)]
+}
+
+fn json_loop(l: &Loop, ex: Exactness) -> JsonLoop {
+    let with = ex == Exactness::WithExact;
+    JsonLoop {
+        points: l.points.iter().map(Point2::to_f64).collect(),
+        exact: with.then(|| l.points.iter().map(exact_xy).collect()),
+        on: with.then(|| {
+            l.cuts
+                .iter()
+                .map(|c| match c {
+                    CutPoint::OnEdge(e) => On::Edge(e.0),
+                    CutPoint::AtVertex(v) => On::Vertex(v.0),
+                })
+                .collect()
+        }),
+        area: rat_to_f64(&l.area),
+        area_exact: with.then(|| rat_to_string(&l.area)),
+        role: l.role,
+        parent: l.parent,
+    }
+}
+
+fn json_level(ls: &LevelSet, ex: Exactness) -> JsonLevel {
+    let loops = |v: &[Loop]| v.iter().map(|l| json_loop(l, ex)).collect();
+    JsonLevel {
+        z: rat_to_string(&ls.level),
+        contours: loops(&ls.contours),
+        faces: ls
+            .regions
+            .iter()
+            .map(|r| JsonRegion {
+                facing: r.facing,
+                faces: r.faces.iter().map(|f| f.0).collect(),
+                area: rat_to_string(&r.area),
+                boundary: loops(&r.boundary),
+            })
+            .collect(),
+        ridges: ls
+            .ridges
+            .iter()
+            .map(|r| JsonRidge {
+                kind: r.kind,
+                closed: r.closed,
+                vertices: r.vertices.iter().map(|v| v.0).collect(),
+                points: r.points.iter().map(Point2::to_f64).collect(),
+            })
+            .collect(),
+        points: ls
+            .extrema
+            .iter()
+            .map(|p| JsonPoint {
+                vertex: p.vertex.0,
+                kind: p.kind,
+                point: p.point.to_f64(),
+            })
+            .collect(),
+        saddles: ls
+            .saddles
+            .iter()
+            .map(|s| JsonSaddle {
+                vertex: s.vertex.0,
+                branches: s.branches,
+            })
+            .collect(),
+        below: loops(&ls.below),
+        above: loops(&ls.above),
+    }
+}
+
+/// Serializes level sets as one `wmslice-levelset` document.
+pub fn to_json(header: &MeshHeader, levels: &[LevelSet], ex: Exactness) -> String {
+    let doc = Document {
+        format: "wmslice-levelset",
+        version: 1,
+        mesh: header,
+        levels: levels.iter().map(|l| json_level(l, ex)).collect(),
+    };
+    // Serializing plain data with string keys cannot fail.
+    serde_json::to_string_pretty(&doc).unwrap_or_default()
+}

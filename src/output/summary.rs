@@ -1,0 +1,102 @@
+//! Input: a level set. Output: a short human-readable summary (counts of
+//! each kind, exact areas, saddles). Areas are printed exactly and rounded.
+
+use crate::classify::{ExtremumKind, Facing, RidgeKind};
+use crate::exact::rational::{rat_to_f64, rat_to_string, Rat};
+use crate::levelset::{LevelSet, Loop};
+use crate::nest::Role;
+use num_traits::Zero;
+use std::fmt::Write;
+
+fn total_area(loops: &[Loop]) -> Rat {
+    loops.iter().fold(Rat::zero(), |a, l| a + &l.area)
+}
+
+fn area_text(a: &Rat) -> String {
+    format!("{} (~{})", rat_to_string(a), rat_to_f64(a))
+}
+
+fn roles(loops: &[Loop]) -> (usize, usize) {
+    let outer = loops.iter().filter(|l| l.role == Role::Outer).count();
+    (outer, loops.len() - outer)
+}
+
+/// A few lines describing one level.
+pub fn summary(ls: &LevelSet) -> String {
+    let mut s = String::new();
+    let (o, h) = roles(&ls.contours);
+    let _ = writeln!(s, "level z = {} (~{})", rat_to_string(&ls.level), rat_to_f64(&ls.level));
+    let _ = writeln!(
+        s,
+        "  contours S_O : {} loops ({o} outer, {h} hole), area {}",
+        ls.contours.len(),
+        area_text(&total_area(&ls.contours))
+    );
+    let count = |f: Facing| ls.regions.iter().filter(|r| r.facing == f).count();
+    let _ = writeln!(
+        s,
+        "  faces F      : {} regions ({} up, {} down, {} flat)",
+        ls.regions.len(),
+        count(Facing::Up),
+        count(Facing::Down),
+        count(Facing::Flat)
+    );
+    for r in &ls.regions {
+        let _ = writeln!(
+            s,
+            "    {:?} region: {} faces, area {}, {} boundary loops",
+            r.facing,
+            r.faces.len(),
+            area_text(&r.area),
+            r.boundary.len()
+        );
+    }
+    let rc = |k: RidgeKind, closed: bool| {
+        ls.ridges
+            .iter()
+            .filter(|r| r.kind == k && r.closed == closed)
+            .count()
+    };
+    let _ = writeln!(
+        s,
+        "  ridges S_NO  : {} ridges ({} open, {} closed), {} valleys ({} open, {} closed)",
+        rc(RidgeKind::Ridge, false) + rc(RidgeKind::Ridge, true),
+        rc(RidgeKind::Ridge, false),
+        rc(RidgeKind::Ridge, true),
+        rc(RidgeKind::Valley, false) + rc(RidgeKind::Valley, true),
+        rc(RidgeKind::Valley, false),
+        rc(RidgeKind::Valley, true)
+    );
+    let pc = |k: ExtremumKind| ls.extrema.iter().filter(|p| p.kind == k).count();
+    let _ = writeln!(
+        s,
+        "  points P     : {} min, {} max",
+        pc(ExtremumKind::Min),
+        pc(ExtremumKind::Max)
+    );
+    if ls.saddles.is_empty() {
+        let _ = writeln!(s, "  saddles      : none");
+    } else {
+        let list: Vec<String> = ls
+            .saddles
+            .iter()
+            .map(|x| format!("{} (m = {})", x.vertex, x.m()))
+            .collect();
+        let _ = writeln!(s, "  saddles      : {}", list.join(", "));
+    }
+    let (bo, bh) = roles(&ls.below);
+    let (ao, ah) = roles(&ls.above);
+    let _ = writeln!(
+        s,
+        "  below L-     : {} loops ({bo} outer, {bh} hole), area {}",
+        ls.below.len(),
+        area_text(&total_area(&ls.below))
+    );
+    let _ = write!(
+        s,
+        "  above L+     : {} loops ({ao} outer, {ah} hole), area {}",
+        ls.above.len(),
+        area_text(&total_area(&ls.above))
+    );
+    s
+}

@@ -1,0 +1,129 @@
+//! Input: vertex signs (possibly perturbed), the classification of in-plane
+//! edges. Output: the oriented pieces of S_O (and of L-, L+), each ending on
+//! a mesh element: a crossed edge or a vertex on the plane.
+//!
+//! Orientation comes from the mesh alone (SPEC section 4): walking a crossed
+//! face in its vertex order, its segment runs from where the walk passes
+//! from + to - to where it passes from - to +. No arithmetic is done here.
+
+use crate::classify::{EdgeClass, InPlaneEdge};
+use crate::exact::Sign;
+use crate::ids::{EdgeId, FaceId, VertexId};
+use crate::mesh::topology::Topology;
+use crate::mesh::Mesh;
+
+/// Where a segment ends: a strictly crossed edge, or a vertex on the plane.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum CutPoint {
+    /// The crossing of an edge whose ends have opposite non-zero signs.
+    OnEdge(EdgeId),
+    /// A vertex with sign zero.
+    AtVertex(VertexId),
+}
+
+/// What a segment runs through next to its ends: a face it crosses, or an
+/// in-plane edge it lies on. This places it in the fan order of a vertex.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Via {
+    /// The segment crosses this face.
+    Face(FaceId),
+    /// The segment lies on this edge.
+    Edge(EdgeId),
+}
+
+/// An oriented piece of a contour.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Segment {
+    /// Start.
+    pub from: CutPoint,
+    /// End.
+    pub to: CutPoint,
+    /// The face crossed or the edge lain on.
+    pub via: Via,
+}
+
+/// The cut point on the side of corner `i -> i + 1` of face `f` where the
+/// walk changes sign: the edge crossing, or the zero vertex.
+fn crossing_of(topo: &Topology, f: FaceId, i: usize) -> CutPoint {
+    CutPoint::OnEdge(topo.face_edges[f.idx()][i])
+}
+
+/// The S_O segment of one face not in F, if its signs change strictly.
+pub fn face_segment(mesh: &Mesh, topo: &Topology, signs: &[Sign], f: FaceId) -> Option<Segment> {
+    let tri = mesh.faces[f.idx()];
+    let s = tri.map(|v| signs[v.idx()]);
+    let has = |x: Sign| s.contains(&x);
+    if !(has(Sign::Positive) && has(Sign::Negative)) {
+        return None;
+    }
+    let mut start = None;
+    let mut end = None;
+    match s.iter().position(|&x| x == Sign::Zero) {
+        None => {
+            for i in 0..3 {
+                match (s[i], s[(i + 1) % 3]) {
+                    (Sign::Positive, Sign::Negative) => start = Some(crossing_of(topo, f, i)),
+                    (Sign::Negative, Sign::Positive) => end = Some(crossing_of(topo, f, i)),
+                    _ => {}
+                }
+            }
+        }
+        Some(k) => {
+            // The other two vertices carry + and -; the edge between them
+            // (corner k+1 -> k+2) is crossed, the zero vertex is the other end.
+            let i = (k + 1) % 3;
+            let zero = CutPoint::AtVertex(tri[k]);
+            if s[i] == Sign::Positive {
+                start = Some(crossing_of(topo, f, i));
+                end = Some(zero);
+            } else {
+                start = Some(zero);
+                end = Some(crossing_of(topo, f, i));
+            }
+        }
+    }
+    Some(Segment {
+        from: start?,
+        to: end?,
+        via: Via::Face(f),
+    })
+}
+
+/// The S_O segments that lie on in-plane edges: transversal edges, and
+/// region boundary edges shared with S_O.
+pub fn edge_segments(edges: &[InPlaneEdge]) -> impl Iterator<Item = Segment> + '_ {
+    edges.iter().filter_map(|e| {
+        let (from, to) = match e.class {
+            EdgeClass::Transversal { from, to } => (from, to),
+            EdgeClass::RegionBoundary { so: Some((from, to)), .. } => (from, to),
+            _ => return None,
+        };
+        Some(Segment {
+            from: CutPoint::AtVertex(from),
+            to: CutPoint::AtVertex(to),
+            via: Via::Edge(e.edge),
+        })
+    })
+}
+
+/// Which way a zero sign is perturbed for a one-sided limit (SPEC
+/// section 6, the project's one perturbation rule).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Side {
+    /// L-: the contour at `c - epsilon`; vertices on the plane count as above.
+    Below,
+    /// L+: the contour at `c + epsilon`; vertices on the plane count as below.
+    Above,
+}
+
+impl Side {
+    /// The perturbed sign of a vertex.
+    #[inline]
+    pub fn perturb(self, s: Sign) -> Sign {
+        match (s, self) {
+            (Sign::Zero, Side::Below) => Sign::Positive,
+            (Sign::Zero, Side::Above) => Sign::Negative,
+            (s, _) => s,
+        }
+    }
+}
