@@ -318,7 +318,7 @@ pub fn validate(mesh: &Mesh) -> Report {
             folds(mesh, &topo, &mut sink);
         }
     }
-    if closed_manifold && finite && !volume.is_positive() {
+    if closed_manifold && finite && !mesh.faces.is_empty() && !volume.is_positive() {
         sink.push(Defect::NotOutward {
             volume: rat_to_string(&volume),
         });
@@ -449,10 +449,12 @@ fn folds(mesh: &Mesh, topo: &Topology, sink: &mut Sink) {
             .find(|&(i, j)| orient2d_axes(a, b, c, i, j) != Sign::Zero);
         if let Some((i, j)) = axes {
             if orient2d_axes(a, b, c, i, j) == orient2d_axes(a, b, d, i, j) {
+                let mut faces = e.faces.to_vec();
+                faces.sort_unstable();
                 sink.push(Defect::Fold {
                     a: e.v[0],
                     b: e.v[1],
-                    faces: e.faces.to_vec(),
+                    faces,
                 });
             }
         }

@@ -1,0 +1,181 @@
+//! One hand-made bad mesh per defect class: the exact defect kind and
+//! element ids, and `wmslice check` exiting non-zero naming the defect.
+
+use std::process::Command;
+use wmslice::ids::{FaceId, VertexId};
+use wmslice::mesh::validate::{validate, Defect};
+use wmslice::Mesh;
+
+const TETRA_POS: [[f64; 3]; 4] = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]];
+const TETRA: [[u32; 3]; 4] = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+
+fn tetra() -> Mesh {
+    Mesh::from_raw(TETRA_POS.to_vec(), TETRA.to_vec())
+}
+
+/// Two tetrahedra: the second shifted by `shift` and with vertices
+/// renumbered through `map` (so they can share vertices).
+fn two_tetras(shift: [f64; 3], map: [u32; 4]) -> Mesh {
+    let mut pos = TETRA_POS.to_vec();
+    for p in TETRA_POS {
+        pos.push([p[0] + shift[0], p[1] + shift[1], p[2] + shift[2]]);
+    }
+    let mut faces = TETRA.to_vec();
+    for f in TETRA {
+        faces.push(f.map(|v| map[v as usize]));
+    }
+    Mesh::from_raw(pos, faces)
+}
+
+fn v(i: u32) -> VertexId {
+    VertexId(i)
+}
+fn f(i: u32) -> FaceId {
+    FaceId(i)
+}
+
+#[test]
+fn the_unit_tetrahedron_is_accepted_with_exact_volume() {
+    let r = validate(&tetra());
+    assert!(r.is_accepted(), "{r}");
+    assert_eq!(r.stats.volume, "1/6");
+    assert_eq!((r.stats.edges, r.stats.components, r.stats.euler_characteristic, r.stats.genus), (6, 1, 2, Some(0)));
+}
+
+#[test]
+fn open_edges_name_their_single_face() {
+    let mut m = tetra();
+    m.faces.pop(); // drop face 3 = [1, 2, 3]
+    let r = validate(&m);
+    assert!(!r.is_accepted());
+    let mut open: Vec<_> = r
+        .defects
+        .iter()
+        .filter_map(|d| match d {
+            Defect::OpenEdge { a, b, face } => Some((*a, *b, *face)),
+            _ => None,
+        })
+        .collect();
+    open.sort();
+    assert_eq!(open, vec![(v(1), v(2), f(0)), (v(1), v(3), f(1)), (v(2), v(3), f(2))]);
+}
+
+#[test]
+fn an_edge_in_four_faces_is_non_manifold() {
+    // The second tetrahedron reuses vertices 0 and 1: edge 0-1 has 4 faces.
+    let m = two_tetras([0., -1., -1.], [0, 1, 6, 7]);
+    let r = validate(&m);
+    assert!(r.defects.iter().any(|d| matches!(d,
+        Defect::NonManifoldEdge { a, b, faces } if (*a, *b) == (v(0), v(1)) && faces.len() == 4)), "{r}");
+}
+
+#[test]
+fn two_tetrahedra_sharing_a_vertex_make_a_bowtie() {
+    let m = two_tetras([-1., -1., -1.], [4, 5, 6, 0]);
+    let r = validate(&m);
+    assert!(r.defects.contains(&Defect::BowtieVertex { vertex: v(0), cycles: 2 }), "{r}");
+}
+
+#[test]
+fn one_reversed_face_is_named_flipped() {
+    let mut m = tetra();
+    m.faces[3] = [v(1), v(3), v(2)];
+    let r = validate(&m);
+    assert_eq!(r.errors().cloned().collect::<Vec<_>>(), vec![Defect::FlippedFace { face: f(3) }]);
+}
+
+#[test]
+fn an_inside_out_mesh_has_negative_volume() {
+    let mut m = tetra();
+    for t in &mut m.faces {
+        t.swap(1, 2);
+    }
+    let r = validate(&m);
+    assert_eq!(r.errors().cloned().collect::<Vec<_>>(), vec![Defect::NotOutward { volume: "-1/6".into() }]);
+}
+
+#[test]
+fn a_flattened_tetrahedron_folds() {
+    // Vertex 3 inside triangle 0-1-2 in the plane z = 0: faces 0 and 1 lie
+    // in one plane on the same side of edge 0-1.
+    let mut m = tetra();
+    m.positions[3] = [0.25, 0.25, 0.0];
+    let r = validate(&m);
+    assert!(r.defects.contains(&Defect::Fold { a: v(0), b: v(1), faces: vec![f(0), f(1)] }), "{r}");
+}
+
+#[test]
+fn out_of_range_repeated_and_non_finite_are_named() {
+    let mut m = tetra();
+    m.faces.push([v(0), v(7), v(1)]);
+    m.faces.push([v(2), v(2), v(1)]);
+    m.positions[1][2] = f64::NAN;
+    let r = validate(&m);
+    assert!(r.defects.contains(&Defect::IndexOutOfRange { face: f(4), corner: 1, index: 7, vertices: 4 }));
+    assert!(r.defects.contains(&Defect::RepeatedVertex { face: f(5) }));
+    assert!(r.defects.contains(&Defect::NonFiniteCoordinate { vertex: v(1) }));
+}
+
+#[test]
+fn duplicate_faces_are_named() {
+    let mut m = tetra();
+    m.faces.push(m.faces[2]);
+    let r = validate(&m);
+    assert!(r.defects.contains(&Defect::DuplicateFace { face: f(4), first: f(2) }), "{r}");
+}
+
+#[test]
+fn zero_area_faces_are_reported_but_accepted() {
+    // Vertex 4 at the midpoint of edge 0-1; face [0, 1, 4] has zero area.
+    let mut pos = TETRA_POS.to_vec();
+    pos.push([0.5, 0., 0.]);
+    let m = Mesh::from_raw(pos, vec![[0, 2, 1], [0, 1, 4], [0, 4, 3], [4, 1, 3], [0, 3, 2], [1, 2, 3]]);
+    let r = validate(&m);
+    assert!(r.is_accepted(), "{r}");
+    assert_eq!(r.defects, vec![Defect::ZeroAreaFace { face: f(1) }]);
+}
+
+#[test]
+fn an_empty_mesh_is_rejected() {
+    assert_eq!(validate(&Mesh::default()).defects, vec![Defect::Empty]);
+}
+
+fn write_off(dir: &std::path::Path, name: &str, m: &Mesh) -> std::path::PathBuf {
+    let mut s = format!("OFF\n{} {} 0\n", m.positions.len(), m.faces.len());
+    for p in &m.positions {
+        s += &format!("{:?} {:?} {:?}\n", p[0], p[1], p[2]);
+    }
+    for t in &m.faces {
+        s += &format!("3 {} {} {}\n", t[0].0, t[1].0, t[2].0);
+    }
+    let path = dir.join(name);
+    std::fs::write(&path, s).unwrap();
+    path
+}
+
+#[test]
+fn check_exits_3_and_names_the_defect() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut open = tetra();
+    open.faces.pop();
+    let mut flipped = tetra();
+    flipped.faces[3] = [v(1), v(3), v(2)];
+    let cases = [
+        ("open.off", open, "open edge"),
+        ("flipped.off", flipped, "is flipped"),
+        ("bowtie.off", two_tetras([-1., -1., -1.], [4, 5, 6, 0]), "bowtie vertex v0"),
+    ];
+    for (name, mesh, needle) in cases {
+        let path = write_off(dir.path(), name, &mesh);
+        let out = Command::new(env!("CARGO_BIN_EXE_wmslice")).arg("check").arg(&path).output().unwrap();
+        assert_eq!(out.status.code(), Some(3), "{name}");
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(text.contains(needle), "{name}: {text}");
+    }
+    let good = write_off(dir.path(), "good.off", &tetra());
+    let out = Command::new(env!("CARGO_BIN_EXE_wmslice")).args(["check", "--json"]).arg(&good).output().unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["stats"]["volume"], "1/6");
+    assert_eq!(json["accepted"], true);
+}
