@@ -360,14 +360,13 @@ impl<'a> LevelBuilder<'a> {
 
     /// L- or L+ by symbolic perturbation (SPEC section 6): every crossing
     /// is strict; a crossing on an edge with an end on the plane sits at
-    /// that end. Loops that collapse to zero area in the limit (around an
-    /// extremal point or a ridge) bound no material and are dropped.
+    /// that end. The limit is then regularized: segments that collapse to a
+    /// point (around an extremum) and pairs that run both ways along one
+    /// edge (zero-width cracks and spikes, e.g. just below a ridge) bound no
+    /// material and are removed; what remains is chained by the vertex rule
+    /// of section 5 and nested. Loops of zero exact area are dropped.
     fn one_sided(&self, side: Side) -> Result<Vec<Loop>, SliceError> {
         let perturbed: Vec<Sign> = self.signs.iter().map(|&s| side.perturb(s)).collect();
-        let segments: Vec<Segment> = (0..self.mesh.num_faces())
-            .map(FaceId::from_idx)
-            .filter_map(|f| face_segment(self.mesh, self.topo, &perturbed, f))
-            .collect();
         let place = |c: CutPoint| match c {
             CutPoint::OnEdge(e) => {
                 let [a, b] = self.topo.edge(e).v;
@@ -381,9 +380,27 @@ impl<'a> LevelBuilder<'a> {
             }
             c => c,
         };
-        let mut loops = self.loops_with(&segments, place, |c| self.cut_point(c), true)?;
-        renest(&mut loops);
-        Ok(loops)
+        let placed: Vec<Segment> = (0..self.mesh.num_faces())
+            .map(FaceId::from_idx)
+            .filter_map(|f| face_segment(self.mesh, self.topo, &perturbed, f))
+            .map(|s| Segment {
+                from: place(s.from),
+                to: place(s.to),
+                via: s.via,
+            })
+            .filter(|s| s.from != s.to)
+            .collect();
+        let index: HashMap<(CutPoint, CutPoint), usize> = placed
+            .iter()
+            .enumerate()
+            .map(|(i, s)| ((s.from, s.to), i))
+            .collect();
+        let kept: Vec<Segment> = placed
+            .iter()
+            .filter(|s| !index.contains_key(&(s.to, s.from)))
+            .copied()
+            .collect();
+        self.loops_with(&kept, |c| self.cut_point(c), true)
     }
 
     fn loops(
@@ -391,21 +408,20 @@ impl<'a> LevelBuilder<'a> {
         segments: &[Segment],
         point: impl Fn(CutPoint) -> Point2,
     ) -> Result<Vec<Loop>, SliceError> {
-        self.loops_with(segments, |c| c, point, false)
+        self.loops_with(segments, point, false)
     }
 
     /// Chains, computes exact points and areas, and nests.
     fn loops_with(
         &self,
         segments: &[Segment],
-        place: impl Fn(CutPoint) -> CutPoint,
         point: impl Fn(CutPoint) -> Point2,
         drop_collapsed: bool,
     ) -> Result<Vec<Loop>, SliceError> {
         let chains = chain_loops(self.topo, segments)?;
         let mut loops = Vec::with_capacity(chains.len());
         for ch in chains {
-            let cuts: Vec<CutPoint> = ch.iter().map(|&i| place(segments[i].from)).collect();
+            let cuts: Vec<CutPoint> = ch.iter().map(|&i| segments[i].from).collect();
             let points: Vec<Point2> = cuts.iter().map(|&c| point(c)).collect();
             let area = signed_area(&points);
             if drop_collapsed && area.is_zero() {

@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# The whole test suite: unit, integration, property and doc tests.
+# Ends with one plain line "N passed, N failed" summed over every test binary.
+set -uo pipefail
+cd "$(dirname "$0")/.."
+log=$(mktemp)
+trap 'rm -f "$log"' EXIT
+status=0
+cargo test --all-targets --no-fail-fast "$@" 2>&1 | tee -a "$log" || status=1
+cargo test --doc --no-fail-fast "$@" 2>&1 | tee -a "$log" || status=1
+passed=$(awk '/^test result:/ { for (i = 1; i < NF; i++) if ($(i+1) ~ /^passed/) s += $i } END { print s + 0 }' "$log")
+failed=$(awk '/^test result:/ { for (i = 1; i < NF; i++) if ($(i+1) ~ /^failed/) s += $i } END { print s + 0 }' "$log")
+echo "${passed:-0} passed, ${failed:-0} failed"
+[ "${failed:-0}" -eq 0 ] && [ "$status" -eq 0 ]
