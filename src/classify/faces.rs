@@ -97,10 +97,15 @@ pub fn face_regions(
             for c in 0..3 {
                 let e = topo.face_edges[f.idx()][c];
                 let edge = topo.edge(e);
-                let other = if edge.faces[0] == f { edge.faces[1] } else { edge.faces[0] };
+                let other = if edge.faces[0] == f {
+                    edge.faces[1]
+                } else {
+                    edge.faces[0]
+                };
                 if is_in_plane(other) {
-                    if !region_of.contains_key(&other) {
-                        region_of.insert(other, r);
+                    if let std::collections::hash_map::Entry::Vacant(slot) = region_of.entry(other)
+                    {
+                        slot.insert(r);
                         faces.push(other);
                         stack.push(other);
                     }

@@ -126,8 +126,14 @@ mod tests {
     #[test]
     fn orient2d_counter_clockwise_is_positive() {
         let o = [0.0, 0.0, 3.0];
-        assert_eq!(orient2d_xy(o, [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]), Sign::Positive);
-        assert_eq!(orient2d_xy(o, [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]), Sign::Negative);
+        assert_eq!(
+            orient2d_xy(o, [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+            Sign::Positive
+        );
+        assert_eq!(
+            orient2d_xy(o, [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]),
+            Sign::Negative
+        );
         // Nearly collinear points that naive float arithmetic gets wrong.
         let a = [0.5, 0.5, 0.0];
         let b = [12.0, 12.0, 0.0];

@@ -50,10 +50,7 @@ pub fn parse_rational(text: &str) -> Result<Rat, RationalParseError> {
         }
         return Ok(num / den);
     }
-    match parse_decimal_checked(t) {
-        Ok(r) => Ok(r),
-        Err(e) => Err(e),
-    }
+    parse_decimal_checked(t)
 }
 
 fn syntax(t: &str) -> RationalParseError {
@@ -84,7 +81,8 @@ fn parse_decimal_checked(t: &str) -> Result<Rat, RationalParseError> {
     if int_part.is_empty() && frac_part.is_empty() {
         return Err(syntax(t));
     }
-    if !int_part.bytes().all(|b| b.is_ascii_digit()) || !frac_part.bytes().all(|b| b.is_ascii_digit())
+    if !int_part.bytes().all(|b| b.is_ascii_digit())
+        || !frac_part.bytes().all(|b| b.is_ascii_digit())
     {
         return Err(syntax(t));
     }
@@ -159,11 +157,26 @@ mod tests {
     #[test]
     fn bad_numbers_are_typed_errors() {
         assert_eq!(parse_rational(""), Err(RationalParseError::Empty));
-        assert!(matches!(parse_rational("abc"), Err(RationalParseError::Syntax(_))));
-        assert!(matches!(parse_rational("1/0"), Err(RationalParseError::ZeroDenominator(_))));
-        assert!(matches!(parse_rational("1e99999"), Err(RationalParseError::ExponentRange(_))));
-        assert!(matches!(parse_rational("1.2.3"), Err(RationalParseError::Syntax(_))));
-        assert!(matches!(parse_rational("-"), Err(RationalParseError::Syntax(_))));
+        assert!(matches!(
+            parse_rational("abc"),
+            Err(RationalParseError::Syntax(_))
+        ));
+        assert!(matches!(
+            parse_rational("1/0"),
+            Err(RationalParseError::ZeroDenominator(_))
+        ));
+        assert!(matches!(
+            parse_rational("1e99999"),
+            Err(RationalParseError::ExponentRange(_))
+        ));
+        assert!(matches!(
+            parse_rational("1.2.3"),
+            Err(RationalParseError::Syntax(_))
+        ));
+        assert!(matches!(
+            parse_rational("-"),
+            Err(RationalParseError::Syntax(_))
+        ));
     }
 
     #[test]

@@ -56,7 +56,8 @@ fn common_grid(mesh: &Mesh) -> (i32, u32) {
 /// coordinates count as zero (validation rejects both before slicing).
 pub fn signed_volume(mesh: &Mesh) -> Rat {
     let (e0, bits) = common_grid(mesh);
-    let coords = |v: crate::ids::VertexId| -> Option<[f64; 3]> { mesh.positions.get(v.idx()).copied() };
+    let coords =
+        |v: crate::ids::VertexId| -> Option<[f64; 3]> { mesh.positions.get(v.idx()).copied() };
     // Integers below 2^31: each det term < 2^93, six terms and 2^31 faces
     // stay below 2^127.
     let small = bits <= 31 && mesh.num_faces() < (1 << 31);
@@ -75,7 +76,8 @@ pub fn signed_volume(mesh: &Mesh) -> Rat {
         };
         let mut acc: i128 = 0;
         for tri in &mesh.faces {
-            let (Some(a), Some(b), Some(c)) = (coords(tri[0]), coords(tri[1]), coords(tri[2])) else {
+            let (Some(a), Some(b), Some(c)) = (coords(tri[0]), coords(tri[1]), coords(tri[2]))
+            else {
                 continue;
             };
             let [a, b, c] = [a, b, c].map(|p| p.map(to_i));
@@ -85,11 +87,13 @@ pub fn signed_volume(mesh: &Mesh) -> Rat {
     } else {
         let mut acc = BigInt::zero();
         for tri in &mesh.faces {
-            let (Some(a), Some(b), Some(c)) = (coords(tri[0]), coords(tri[1]), coords(tri[2])) else {
+            let (Some(a), Some(b), Some(c)) = (coords(tri[0]), coords(tri[1]), coords(tri[2]))
+            else {
                 continue;
             };
             let [a, b, c] = [a, b, c].map(|p| p.map(scale));
-            acc += &a[0] * (&b[1] * &c[2] - &b[2] * &c[1]) - &a[1] * (&b[0] * &c[2] - &b[2] * &c[0])
+            acc += &a[0] * (&b[1] * &c[2] - &b[2] * &c[1])
+                - &a[1] * (&b[0] * &c[2] - &b[2] * &c[0])
                 + &a[2] * (&b[0] * &c[1] - &b[1] * &c[0]);
         }
         acc
@@ -119,7 +123,8 @@ mod tests {
         let mut acc = Rat::zero();
         for tri in &mesh.faces {
             let [a, b, c] = [0, 1, 2].map(|k| mesh.positions[tri[k].idx()].map(rat_from_f64));
-            acc += &a[0] * (&b[1] * &c[2] - &b[2] * &c[1]) - &a[1] * (&b[0] * &c[2] - &b[2] * &c[0])
+            acc += &a[0] * (&b[1] * &c[2] - &b[2] * &c[1])
+                - &a[1] * (&b[0] * &c[2] - &b[2] * &c[0])
                 + &a[2] * (&b[0] * &c[1] - &b[1] * &c[0]);
         }
         acc / Rat::from_integer(6.into())
@@ -140,7 +145,10 @@ mod tests {
         assert_eq!(decompose(0.0), None);
         assert_eq!(decompose(f64::NAN), None);
         let (m, e) = decompose(0.1).unwrap();
-        assert_eq!(rat_from_f64(0.1), Rat::from_integer(m.into()) * Rat::new(1.into(), BigInt::from(1) << (-e) as usize));
+        assert_eq!(
+            rat_from_f64(0.1),
+            Rat::from_integer(m.into()) * Rat::new(1.into(), BigInt::from(1) << (-e) as usize)
+        );
     }
 
     #[test]
@@ -149,7 +157,11 @@ mod tests {
         let m = tetra(6.0, [0.0, 0.0, 0.0]);
         assert_eq!(signed_volume(&m), Rat::from_integer(36.into()));
         // Odd decimals and a huge offset: BigInt path, still exact.
-        for (s, t) in [(0.1, [1e9, 0.3, -7.7]), (3.0e-9, [1.0, 2.0, 3.0]), (1.5, [0.0; 3])] {
+        for (s, t) in [
+            (0.1, [1e9, 0.3, -7.7]),
+            (3.0e-9, [1.0, 2.0, 3.0]),
+            (1.5, [0.0; 3]),
+        ] {
             let m = tetra(s, t);
             assert_eq!(signed_volume(&m), reference(&m));
         }

@@ -38,9 +38,16 @@ pub fn check_level_invariants(mesh: &Mesh, topo: &Topology, ls: &LevelSet) -> Re
             }
         }
     }
-    let in_plane_faces = mesh.faces.iter().filter(|t| t.iter().all(|&v| zero(v))).count();
+    let in_plane_faces = mesh
+        .faces
+        .iter()
+        .filter(|t| t.iter().all(|&v| zero(v)))
+        .count();
     if in_plane_faces != in_f.len() {
-        return Err(format!("{in_plane_faces} faces lie in the plane, F has {}", in_f.len()));
+        return Err(format!(
+            "{in_plane_faces} faces lie in the plane, F has {}",
+            in_f.len()
+        ));
     }
 
     // Cover of strictly crossed edges: each exactly once in S_O.
@@ -57,7 +64,10 @@ pub fn check_level_invariants(mesh: &Mesh, topo: &Topology, ls: &LevelSet) -> Re
         let crossed = a != Sign::Zero && b != Sign::Zero && a != b;
         let got = crossings.get(&EdgeId::from_idx(k)).copied().unwrap_or(0);
         if got != usize::from(crossed) {
-            return Err(format!("edge e{k} crossed {} but appears {got} times in S_O", crossed));
+            return Err(format!(
+                "edge e{k} crossed {} but appears {got} times in S_O",
+                crossed
+            ));
         }
     }
 
@@ -67,14 +77,18 @@ pub fn check_level_invariants(mesh: &Mesh, topo: &Topology, ls: &LevelSet) -> Re
         if !zero(p.vertex) {
             return Err(format!("extremum {} is not on the plane", p.vertex));
         }
-        let on_loop = ls.contours.iter().any(|l| l.cuts.contains(&CutPoint::AtVertex(p.vertex)));
+        let on_loop = ls
+            .contours
+            .iter()
+            .any(|l| l.cuts.contains(&CutPoint::AtVertex(p.vertex)));
         if on_loop {
             return Err(format!("extremum {} also lies on S_O", p.vertex));
         }
     }
 
     // Points lie where their cuts say, exactly.
-    let families: [(&str, &[Loop]); 3] = [("S_O", &ls.contours), ("L-", &ls.below), ("L+", &ls.above)];
+    let families: [(&str, &[Loop]); 3] =
+        [("S_O", &ls.contours), ("L-", &ls.below), ("L+", &ls.above)];
     for (name, loops) in families {
         for (i, l) in loops.iter().enumerate() {
             if l.points.len() != l.cuts.len() || l.points.is_empty() {
@@ -82,18 +96,27 @@ pub fn check_level_invariants(mesh: &Mesh, topo: &Topology, ls: &LevelSet) -> Re
             }
             for (c, p) in l.cuts.iter().zip(&l.points) {
                 if !lies_on(mesh, topo, &ls.level, *c, p) {
-                    return Err(format!("{name} loop {i}: point {:?} is not on {c:?}", p.to_f64()));
+                    return Err(format!(
+                        "{name} loop {i}: point {:?} is not on {c:?}",
+                        p.to_f64()
+                    ));
                 }
             }
             if signed_area(&l.points) != l.area {
-                return Err(format!("{name} loop {i}: stored area is not the exact area"));
+                return Err(format!(
+                    "{name} loop {i}: stored area is not the exact area"
+                ));
             }
             let ok = match l.role {
                 Role::Outer => l.area.is_positive(),
                 Role::Hole => l.area.is_negative(),
             };
             if !ok {
-                return Err(format!("{name} loop {i}: {:?} with area {}", l.role, rat_to_string(&l.area)));
+                return Err(format!(
+                    "{name} loop {i}: {:?} with area {}",
+                    l.role,
+                    rat_to_string(&l.area)
+                ));
             }
         }
         // One-sided limits may run both ways along an edge (zero-width cracks
@@ -109,7 +132,10 @@ pub fn check_level_invariants(mesh: &Mesh, topo: &Topology, ls: &LevelSet) -> Re
             crate::classify::Facing::Flat => Rat::zero(),
         };
         if total != expect {
-            return Err(format!("region {r}: dF encloses {} but the faces cover {}", total, expect));
+            return Err(format!(
+                "region {r}: dF encloses {} but the faces cover {}",
+                total, expect
+            ));
         }
     }
     Ok(())
@@ -136,6 +162,10 @@ fn lies_on(mesh: &Mesh, topo: &Topology, level: &Rat, c: CutPoint, p: &Point2) -
         }
     }
 }
+
+/// A pass of a loop through a point: directions back to the previous and on
+/// to the next point.
+type Pass = ((Rat, Rat), (Rat, Rat));
 
 /// Exact comparison of the directions of two non-zero vectors by angle in
 /// `[0, 2 pi)`.
@@ -182,26 +212,35 @@ fn no_crossing(loops: &[Loop], opposite_overlap_ok: bool) -> Result<(), String> 
             let d4 = orient2d_rat(q1, q2, p2);
             let strict = |a: Sign, b: Sign| a != Sign::Zero && b != Sign::Zero && a != b;
             if strict(d1, d2) && strict(d3, d4) {
-                return Err(format!("segments of loops {} and {} cross", segs[x].0, segs[y].0));
+                return Err(format!(
+                    "segments of loops {} and {} cross",
+                    segs[x].0, segs[y].0
+                ));
             }
             let reversed = p1 == q2 && p2 == q1;
             if [d1, d2, d3, d4].iter().all(|&d| d == Sign::Zero)
                 && overlap(p1, p2, q1, q2)
                 && !(opposite_overlap_ok && reversed)
             {
-                return Err(format!("segments of loops {} and {} overlap", segs[x].0, segs[y].0));
+                return Err(format!(
+                    "segments of loops {} and {} overlap",
+                    segs[x].0, segs[y].0
+                ));
             }
             // A segment's interior must not touch the other segment's end.
             let interior = |a: &Point2, b: &Point2, p: &Point2, o: Sign| {
                 o == Sign::Zero && p != a && p != b && between(a, b, p)
             };
             if interior(p1, p2, q1, d1) || interior(p1, p2, q2, d2) {
-                return Err(format!("a point of loop {} lies inside a segment of loop {}", segs[y].0, segs[x].0));
+                return Err(format!(
+                    "a point of loop {} lies inside a segment of loop {}",
+                    segs[y].0, segs[x].0
+                ));
             }
         }
     }
     // Passes through a shared point must not interleave.
-    let mut passes: HashMap<&Point2, Vec<((Rat, Rat), (Rat, Rat))>> = HashMap::new();
+    let mut passes: HashMap<&Point2, Vec<Pass>> = HashMap::new();
     for l in loops {
         let n = l.points.len();
         for k in 0..n {
@@ -235,8 +274,16 @@ fn between(a: &Point2, b: &Point2, p: &Point2) -> bool {
 fn overlap(p1: &Point2, p2: &Point2, q1: &Point2, q2: &Point2) -> bool {
     // Collinear: overlap in more than a point iff some interior point is shared.
     let key = |p: &Point2| (p.x.clone(), p.y.clone());
-    let (a, b) = if key(p1) <= key(p2) { (key(p1), key(p2)) } else { (key(p2), key(p1)) };
-    let (c, d) = if key(q1) <= key(q2) { (key(q1), key(q2)) } else { (key(q2), key(q1)) };
+    let (a, b) = if key(p1) <= key(p2) {
+        (key(p1), key(p2))
+    } else {
+        (key(p2), key(p1))
+    };
+    let (c, d) = if key(q1) <= key(q2) {
+        (key(q1), key(q2))
+    } else {
+        (key(q2), key(q1))
+    };
     let lo = if a > c { a } else { c };
     let hi = if b < d { b } else { d };
     lo < hi
@@ -244,9 +291,13 @@ fn overlap(p1: &Point2, p2: &Point2, q1: &Point2, q2: &Point2) -> bool {
 
 /// Whether two passes (in-direction, out-direction) through one point cross:
 /// the directions of one separate those of the other in angular order.
-fn interleave(a: &((Rat, Rat), (Rat, Rat)), b: &((Rat, Rat), (Rat, Rat))) -> bool {
+fn interleave(a: &Pass, b: &Pass) -> bool {
     let mut dirs = [(&a.0, 0), (&a.1, 0), (&b.0, 1), (&b.1, 1)];
-    if dirs.iter().enumerate().any(|(i, x)| dirs[i + 1..].iter().any(|y| angle_cmp(x.0, y.0) == Ordering::Equal)) {
+    if dirs.iter().enumerate().any(|(i, x)| {
+        dirs[i + 1..]
+            .iter()
+            .any(|y| angle_cmp(x.0, y.0) == Ordering::Equal)
+    }) {
         // Shared directions mean touching along a ray: not a proper crossing.
         return false;
     }
@@ -290,7 +341,11 @@ pub fn check_volume_identity(slicer: &Slicer<'_>, volume: &Rat) -> Result<(), St
         prev = Some((z.clone(), area(&ls.above)));
     }
     if &total != volume {
-        return Err(format!("Simpson sum {} != volume {}", rat_to_string(&total), rat_to_string(volume)));
+        return Err(format!(
+            "Simpson sum {} != volume {}",
+            rat_to_string(&total),
+            rat_to_string(volume)
+        ));
     }
     Ok(())
 }

@@ -461,7 +461,10 @@ fn check_orientation(ls: &LevelSet) -> Result<(), SliceError> {
             if !ok {
                 return Err(SliceError::Invariant {
                     level: crate::exact::rational::rat_to_string(&ls.level),
-                    what: format!("{name} loop {i} is {:?} but its exact area is {}", l.role, l.area),
+                    what: format!(
+                        "{name} loop {i} is {:?} but its exact area is {}",
+                        l.role, l.area
+                    ),
                 });
             }
         }

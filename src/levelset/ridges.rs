@@ -32,26 +32,27 @@ pub fn join_ridges(edges: &[(EdgeId, [VertexId; 2], RidgeKind)]) -> Vec<RidgePat
     };
     let mut used = vec![false; edges.len()];
     let mut paths = Vec::new();
-    let walk = |start: VertexId, first: usize, used: &mut Vec<bool>| -> (Vec<VertexId>, RidgeKind) {
-        let kind = edges[first].2;
-        let mut verts = vec![start];
-        let mut cur = start;
-        let mut e = first;
-        loop {
-            used[e] = true;
-            let [a, b] = edges[e].1;
-            cur = if a == cur { b } else { a };
-            verts.push(cur);
-            if is_junction(cur) {
-                break;
+    let walk =
+        |start: VertexId, first: usize, used: &mut Vec<bool>| -> (Vec<VertexId>, RidgeKind) {
+            let kind = edges[first].2;
+            let mut verts = vec![start];
+            let mut cur = start;
+            let mut e = first;
+            loop {
+                used[e] = true;
+                let [a, b] = edges[e].1;
+                cur = if a == cur { b } else { a };
+                verts.push(cur);
+                if is_junction(cur) {
+                    break;
+                }
+                match at[&cur].iter().copied().find(|&j| !used[j]) {
+                    Some(j) => e = j,
+                    None => break,
+                }
             }
-            match at[&cur].iter().copied().find(|&j| !used[j]) {
-                Some(j) => e = j,
-                None => break,
-            }
-        }
-        (verts, kind)
-    };
+            (verts, kind)
+        };
     // Open paths start at junctions, in edge order for determinism.
     let mut order: Vec<usize> = (0..edges.len()).collect();
     order.sort_unstable_by_key(|&i| edges[i].0);

@@ -91,11 +91,10 @@ fn bbox(poly: &[Point2]) -> Bbox {
         hi: [f64::NEG_INFINITY; 2],
     };
     for p in poly {
-        let f = p.to_f64();
-        for k in 0..2 {
-            // Rounded to nearest: the exact value is within one ulp.
-            b.lo[k] = b.lo[k].min(f[k].next_down());
-            b.hi[k] = b.hi[k].max(f[k].next_up());
+        // Rounded to nearest: the exact value is within one ulp.
+        for (k, x) in p.to_f64().into_iter().enumerate() {
+            b.lo[k] = b.lo[k].min(x.next_down());
+            b.hi[k] = b.hi[k].max(x.next_up());
         }
     }
     b
@@ -169,7 +168,11 @@ pub fn nest(loops: &[Vec<Point2>]) -> Vec<Nesting> {
                 .copied()
                 .max_by_key(|&j| (containers[j].len(), std::cmp::Reverse(j)));
             Nesting {
-                role: if depth % 2 == 0 { Role::Outer } else { Role::Hole },
+                role: if depth % 2 == 0 {
+                    Role::Outer
+                } else {
+                    Role::Hole
+                },
                 parent,
                 depth,
             }
@@ -202,16 +205,48 @@ mod tests {
             square(20, 0, 1, true),
         ];
         let n = nest(&loops);
-        assert_eq!(n[1], Nesting { role: Role::Outer, parent: None, depth: 0 });
-        assert_eq!(n[0], Nesting { role: Role::Hole, parent: Some(1), depth: 1 });
-        assert_eq!(n[2], Nesting { role: Role::Outer, parent: Some(0), depth: 2 });
-        assert_eq!(n[3], Nesting { role: Role::Outer, parent: None, depth: 0 });
+        assert_eq!(
+            n[1],
+            Nesting {
+                role: Role::Outer,
+                parent: None,
+                depth: 0
+            }
+        );
+        assert_eq!(
+            n[0],
+            Nesting {
+                role: Role::Hole,
+                parent: Some(1),
+                depth: 1
+            }
+        );
+        assert_eq!(
+            n[2],
+            Nesting {
+                role: Role::Outer,
+                parent: Some(0),
+                depth: 2
+            }
+        );
+        assert_eq!(
+            n[3],
+            Nesting {
+                role: Role::Outer,
+                parent: None,
+                depth: 0
+            }
+        );
     }
 
     #[test]
     fn loops_touching_at_a_corner_are_siblings() {
         // Two squares sharing the corner (1, 1), inside a big one.
-        let loops = vec![square(0, 0, 1, true), square(1, 1, 1, true), square(-5, -5, 20, true)];
+        let loops = vec![
+            square(0, 0, 1, true),
+            square(1, 1, 1, true),
+            square(-5, -5, 20, true),
+        ];
         let n = nest(&loops);
         assert_eq!(n[0].parent, Some(2));
         assert_eq!(n[1].parent, Some(2));
