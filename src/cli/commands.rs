@@ -4,8 +4,8 @@ use super::args::{CheckArgs, Cli, Command, Format, GenArgs, SliceArgs};
 use super::{ExitCode, Failure, Tag};
 use anyhow::anyhow;
 use std::path::Path;
-use wmslice::exact::rational::{rat_to_f64, rat_to_string, Rat};
 use wmslice::exact::parse_rational;
+use wmslice::exact::rational::{rat_to_f64, rat_to_string, Rat};
 use wmslice::mesh::snap::snap;
 use wmslice::mesh::validate::validate;
 use wmslice::naive::naive_slice;
@@ -13,6 +13,25 @@ use wmslice::output::atomic::write_atomic;
 use wmslice::output::json::{to_json, Exactness, MeshHeader};
 use wmslice::output::summary::summary;
 use wmslice::{datasets, LevelSet, Mesh, SliceError, Slicer};
+
+/// Prints a line to stdout; a closed pipe (`wmslice ... | head`) ends the
+/// output quietly instead of panicking.
+macro_rules! say {
+    ($($arg:tt)*) => {
+        write_stdout(&format!($($arg)*))?
+    };
+}
+
+fn write_stdout(text: &str) -> Result<(), Failure> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match writeln!(out, "{text}") {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
+        r => r
+            .map_err(|e| anyhow!("cannot write to stdout: {e}"))
+            .tag(ExitCode::Output),
+    }
+}
 
 /// Runs one parsed command.
 pub fn dispatch(cli: Cli) -> Result<(), Failure> {
@@ -84,7 +103,7 @@ fn load_input(spec: &str, snap_arg: Option<&str>) -> Result<Input, Failure> {
 fn gen(a: GenArgs) -> Result<(), Failure> {
     if a.list {
         for d in datasets::all() {
-            println!("{:<20} {}", d.name, d.summary);
+            say!("{:<20} {}", d.name, d.summary);
         }
         return Ok(());
     }
@@ -116,17 +135,21 @@ fn check(a: CheckArgs) -> Result<(), Failure> {
             "unlisted_defects": report.unlisted,
             "notes": input.notes,
         });
-        println!("{}", serde_json::to_string_pretty(&doc).unwrap_or_default());
+        say!("{}", serde_json::to_string_pretty(&doc).unwrap_or_default());
     } else {
         for n in &input.notes {
-            println!("note: {n}");
+            say!("note: {n}");
         }
-        println!("{report}");
+        say!("{report}");
     }
     if report.is_accepted() {
         Ok(())
     } else {
-        let first = report.errors().next().map(|d| d.to_string()).unwrap_or_default();
+        let first = report
+            .errors()
+            .next()
+            .map(|d| d.to_string())
+            .unwrap_or_default();
         Err(Failure {
             code: ExitCode::InvalidMesh,
             error: anyhow!("{} is rejected for slicing: {first}", a.mesh),
@@ -148,7 +171,9 @@ fn parse_levels(a: &SliceArgs) -> Result<Vec<Rat>, Failure> {
             if t.is_empty() {
                 continue;
             }
-            levels.push(parse_rational(t).map_err(|e| usage(format!("{}:{}: {e}", f.display(), i + 1)))?);
+            levels.push(
+                parse_rational(t).map_err(|e| usage(format!("{}:{}: {e}", f.display(), i + 1)))?,
+            );
         }
     }
     if levels.is_empty() {
@@ -174,7 +199,7 @@ fn emit(out: Option<&Path>, text: &str) -> Result<(), Failure> {
             .map_err(|e| anyhow!("cannot write {}: {e}", p.display()))
             .tag(ExitCode::Output),
         None => {
-            println!("{text}");
+            say!("{text}");
             Ok(())
         }
     }
@@ -191,7 +216,10 @@ fn slice(a: SliceArgs) -> Result<(), Failure> {
     if a.naive {
         return slice_naive(&a, &input, &levels);
     }
-    let unit = input.unit.clone().unwrap_or_else(|| Rat::from_integer(1.into()));
+    let unit = input
+        .unit
+        .clone()
+        .unwrap_or_else(|| Rat::from_integer(1.into()));
     let slicer = Slicer::with_unit(&input.mesh, unit).map_err(slice_error)?;
     let sets: Vec<LevelSet> = levels
         .iter()
@@ -205,7 +233,11 @@ fn slice(a: SliceArgs) -> Result<(), Failure> {
             } else {
                 Exactness::Rounded
             };
-            to_json(&MeshHeader::new(&input.mesh, input.unit.as_ref()), &sets, ex)
+            to_json(
+                &MeshHeader::new(&input.mesh, input.unit.as_ref()),
+                &sets,
+                ex,
+            )
         }
         Format::Summary => sets.iter().map(summary).collect::<Vec<_>>().join("\n"),
     };
@@ -216,7 +248,10 @@ fn slice_naive(a: &SliceArgs, input: &Input, levels: &[Rat]) -> Result<(), Failu
     if a.format != Format::Summary {
         return Err(usage("--naive only prints a summary".into()));
     }
-    let unit = input.unit.clone().unwrap_or_else(|| Rat::from_integer(1.into()));
+    let unit = input
+        .unit
+        .clone()
+        .unwrap_or_else(|| Rat::from_integer(1.into()));
     let mut text = String::new();
     for c in levels {
         let n = naive_slice(&input.mesh, &(c / &unit));
@@ -236,26 +271,58 @@ fn slice_naive(a: &SliceArgs, input: &Input, levels: &[Rat]) -> Result<(), Failu
     emit(a.output.as_deref(), text.trim_end())
 }
 
+/// The demo's degenerate levels: one of each kind of degeneracy.
+const DEMO: [(&str, i64, &str); 8] = [
+    (
+        "double_torus",
+        2,
+        "a monkey saddle (m = 3): three holes touch one outer loop",
+    ),
+    (
+        "upright_torus",
+        1,
+        "an ordinary saddle at the top of the hole",
+    ),
+    ("saddle8", 2, "an 8-branch saddle (m = 4)"),
+    (
+        "lying_torus",
+        2,
+        "the top vertex ring: one closed ridge, no contour",
+    ),
+    (
+        "cylinder",
+        2,
+        "the top cap: one up-facing region, no contour",
+    ),
+    (
+        "internal_torus",
+        2,
+        "the cavity's top ring: a ridge inside the material",
+    ),
+    ("grid", 2, "a network of ridges around nine pits"),
+    ("octahedron", 0, "a square of transversal in-plane edges"),
+];
+
 fn demo() -> Result<(), Failure> {
-    println!("wmslice demo: built-in datasets at their degenerate levels\n");
-    for d in datasets::all() {
+    say!("wmslice demo: exact level sets of built-in datasets at degenerate levels\n");
+    for (name, z, what) in DEMO {
+        let d = datasets::by_name(name).ok_or_else(|| usage(format!("missing dataset {name}")))?;
         let mesh = d.build();
         let slicer = Slicer::new(&mesh).map_err(slice_error)?;
-        println!("== {}: {}", d.name, d.summary);
-        for &(p, q) in d.degenerate_levels {
-            let c = Rat::new(p.into(), q.into());
-            let ls = slicer.slice_at(&c).map_err(slice_error)?;
-            println!("{}", summary(&ls));
-            let n = naive_slice(&mesh, &c);
-            println!(
-                "  naive slicer : {} segments ({} zero-length, {} duplicated), {} filled contours of area {}\n",
-                n.segments.len(),
-                n.zero_length,
-                n.duplicates,
-                n.loops.len(),
-                rat_to_string(&n.filled_area())
-            );
-        }
+        let c = Rat::from_integer(z.into());
+        let ls = slicer.slice_at(&c).map_err(slice_error)?;
+        say!("== {name} at z = {z}: {what}");
+        say!("{}", summary(&ls));
+        let n = naive_slice(&mesh, &c);
+        say!(
+            "  naive slicer : {} segments ({} zero-length, {} duplicated), {} filled contours of area {}\n",
+            n.segments.len(),
+            n.zero_length,
+            n.duplicates,
+            n.loops.len(),
+            rat_to_string(&n.filled_area())
+        );
     }
+    say!("Slice any of them yourself: wmslice slice double_torus --at 2 --format json --exact");
     Ok(())
 }

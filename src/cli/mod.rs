@@ -62,7 +62,11 @@ pub fn run() -> i32 {
         Ok(c) => c,
         Err(e) => {
             let _ = e.print();
-            return if e.use_stderr() { ExitCode::Usage as i32 } else { 0 };
+            return if e.use_stderr() {
+                ExitCode::Usage as i32
+            } else {
+                0
+            };
         }
     };
     match commands::dispatch(cli) {

@@ -1,0 +1,114 @@
+//! The command line on the paper's showcase levels: the exact slicer and
+//! the naive one side by side.
+
+use std::process::Command;
+
+fn run(args: &[&str]) -> (i32, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_wmslice"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+    )
+}
+
+#[test]
+fn lying_torus_top_ring_is_one_closed_ridge_and_no_contour() {
+    let (code, text) = run(&["slice", "lying_torus", "--at", "2", "--quiet"]);
+    assert_eq!(code, 0);
+    assert!(text.contains("contours S_O : 0 loops"), "{text}");
+    assert!(
+        text.contains("ridges S_NO  : 1 ridges (0 open, 1 closed)"),
+        "{text}"
+    );
+    // The naive slicer fills the ring instead.
+    let (code, naive) = run(&["slice", "lying_torus", "--at", "2", "--naive", "--quiet"]);
+    assert_eq!(code, 0);
+    assert!(!naive.contains(" 0 filled contours"), "{naive}");
+    assert!(naive.contains("zero-length"), "{naive}");
+}
+
+#[test]
+fn cylinder_top_is_one_up_region_and_no_contour() {
+    let (code, text) = run(&["slice", "cylinder", "--at", "2", "--quiet"]);
+    assert_eq!(code, 0);
+    assert!(text.contains("contours S_O : 0 loops"), "{text}");
+    assert!(
+        text.contains("faces F      : 1 regions (1 up, 0 down, 0 flat)"),
+        "{text}"
+    );
+    let (_, naive) = run(&["slice", "cylinder", "--at", "2", "--naive", "--quiet"]);
+    assert!(!naive.contains(" 0 filled contours"), "{naive}");
+}
+
+#[test]
+fn levels_are_parsed_exactly_and_bad_ones_exit_2() {
+    let (code, text) = run(&[
+        "slice",
+        "unit_cube",
+        "--at",
+        "0.1",
+        "--at",
+        "3/5",
+        "--at",
+        "-1e-3",
+        "--quiet",
+    ]);
+    assert_eq!(code, 0);
+    assert!(text.contains("level z = 1/10"), "{text}");
+    assert!(text.contains("level z = 3/5"), "{text}");
+    assert!(text.contains("level z = -1/1000"), "{text}");
+    assert_eq!(run(&["slice", "unit_cube", "--at", "1/0"]).0, 2);
+    assert_eq!(run(&["slice", "unit_cube"]).0, 2);
+    assert_eq!(run(&["slice", "no_such_mesh_or_file", "--at", "1"]).0, 4);
+}
+
+#[test]
+fn snapping_makes_the_cad_plane_exact() {
+    // A unit cube whose top corners were stored as f32 0.6 (0.60000002...):
+    // exactly at 3/5 only after snapping to 1/10000.
+    let dir = tempfile::tempdir().unwrap();
+    let z = 0.6f32 as f64;
+    let mut s = String::from("OFF\n8 12 0\n");
+    for (x, y, zz) in [
+        (0., 0., 0.),
+        (1., 0., 0.),
+        (1., 1., 0.),
+        (0., 1., 0.),
+        (0., 0., z),
+        (1., 0., z),
+        (1., 1., z),
+        (0., 1., z),
+    ] {
+        s += &format!("{x:?} {y:?} {zz:?}\n");
+    }
+    for f in [
+        [0, 2, 1],
+        [0, 3, 2],
+        [4, 5, 6],
+        [4, 6, 7],
+        [0, 1, 5],
+        [0, 5, 4],
+        [1, 2, 6],
+        [1, 6, 5],
+        [2, 3, 7],
+        [2, 7, 6],
+        [3, 0, 4],
+        [3, 4, 7],
+    ] {
+        s += &format!("3 {} {} {}\n", f[0], f[1], f[2]);
+    }
+    let path = dir.path().join("cad.off");
+    std::fs::write(&path, s).unwrap();
+    let p = path.to_str().unwrap();
+    let (_, raw) = run(&["slice", p, "--at", "0.6", "--quiet"]);
+    assert!(raw.contains("faces F      : 0 regions"), "{raw}");
+    let (code, snapped) = run(&["slice", p, "--at", "0.6", "--snap", "0.0001", "--quiet"]);
+    assert_eq!(code, 0);
+    assert!(
+        snapped.contains("faces F      : 1 regions (1 up"),
+        "{snapped}"
+    );
+}
