@@ -16,13 +16,18 @@ pub mod mesh;
 
 pub use ids::{EdgeId, FaceId, VertexId};
 pub use mesh::Mesh;
-pub mod exact;
 pub mod chain;
 pub mod classify;
+pub mod exact;
 pub mod levelset;
 pub mod nest;
 pub mod segment;
 
 pub use levelset::{LevelSet, SliceError, Slicer};
-pub mod output;
 pub mod naive;
+pub mod output;
+
+/// The README's examples, compiled and run as doc tests.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
