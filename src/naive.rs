@@ -117,7 +117,11 @@ fn chain_by_coordinates(segments: &[[Point2; 2]]) -> (Vec<(Vec<Point2>, Rat)>, u
             match next {
                 Some(j) => {
                     used[j] = true;
-                    cur = if &segments[j][0] == cur { &segments[j][1] } else { &segments[j][0] };
+                    cur = if &segments[j][0] == cur {
+                        &segments[j][1]
+                    } else {
+                        &segments[j][0]
+                    };
                 }
                 None => break false,
             }

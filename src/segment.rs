@@ -95,7 +95,10 @@ pub fn edge_segments(edges: &[InPlaneEdge]) -> impl Iterator<Item = Segment> + '
     edges.iter().filter_map(|e| {
         let (from, to) = match e.class {
             EdgeClass::Transversal { from, to } => (from, to),
-            EdgeClass::RegionBoundary { so: Some((from, to)), .. } => (from, to),
+            EdgeClass::RegionBoundary {
+                so: Some((from, to)),
+                ..
+            } => (from, to),
             _ => return None,
         };
         Some(Segment {

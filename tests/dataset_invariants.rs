@@ -16,11 +16,14 @@ fn every_dataset_satisfies_the_invariants_at_every_height() {
         let two = Rat::from_integer(2.into());
         let mids: Vec<Rat> = zs.windows(2).map(|w| (&w[0] + &w[1]) / &two).collect();
         for c in zs.iter().chain(&mids) {
-            let ls = slicer.slice_at(c).unwrap_or_else(|e| panic!("{} at {c}: {e}", d.name));
+            let ls = slicer
+                .slice_at(c)
+                .unwrap_or_else(|e| panic!("{} at {c}: {e}", d.name));
             if let Err(e) = check_level_invariants(&mesh, slicer.topology(), &ls) {
                 panic!("{} at {c}: {e}", d.name);
             }
         }
-        check_volume_identity(&slicer, &validate(&mesh).volume).unwrap_or_else(|e| panic!("{}: {e}", d.name));
+        check_volume_identity(&slicer, &validate(&mesh).volume)
+            .unwrap_or_else(|e| panic!("{}: {e}", d.name));
     }
 }

@@ -7,7 +7,9 @@ use common::slab;
 use proptest::prelude::*;
 use wmslice::exact::rational::Rat;
 use wmslice::exact::{Level, Sign};
-use wmslice::levelset::check::{check_level_invariants, check_volume_identity, same_structure, vertex_heights};
+use wmslice::levelset::check::{
+    check_level_invariants, check_volume_identity, same_structure, vertex_heights,
+};
 use wmslice::mesh::validate::validate;
 use wmslice::Slicer;
 

@@ -19,7 +19,10 @@ fn schema() -> jsonschema::Validator {
 fn assert_valid(doc: &str) -> serde_json::Value {
     let v: serde_json::Value = serde_json::from_str(doc).unwrap();
     let validator = schema();
-    let errors: Vec<String> = validator.iter_errors(&v).map(|e| format!("{e} at {}", e.instance_path)).collect();
+    let errors: Vec<String> = validator
+        .iter_errors(&v)
+        .map(|e| format!("{e} at {}", e.instance_path))
+        .collect();
     assert!(errors.is_empty(), "schema violations: {errors:?}");
     v
 }
@@ -56,7 +59,18 @@ fn cli_writes_schema_valid_json_atomically() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("nested/dir/cube.json");
     let status = std::process::Command::new(env!("CARGO_BIN_EXE_wmslice"))
-        .args(["slice", "unit_cube", "--at", "1", "--at", "0.5", "--exact", "--format", "json", "-o"])
+        .args([
+            "slice",
+            "unit_cube",
+            "--at",
+            "1",
+            "--at",
+            "0.5",
+            "--exact",
+            "--format",
+            "json",
+            "-o",
+        ])
         .arg(&out)
         .status()
         .unwrap();

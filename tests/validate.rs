@@ -39,7 +39,15 @@ fn the_unit_tetrahedron_is_accepted_with_exact_volume() {
     let r = validate(&tetra());
     assert!(r.is_accepted(), "{r}");
     assert_eq!(r.stats.volume, "1/6");
-    assert_eq!((r.stats.edges, r.stats.components, r.stats.euler_characteristic, r.stats.genus), (6, 1, 2, Some(0)));
+    assert_eq!(
+        (
+            r.stats.edges,
+            r.stats.components,
+            r.stats.euler_characteristic,
+            r.stats.genus
+        ),
+        (6, 1, 2, Some(0))
+    );
 }
 
 #[test]
@@ -57,7 +65,10 @@ fn open_edges_name_their_single_face() {
         })
         .collect();
     open.sort();
-    assert_eq!(open, vec![(v(1), v(2), f(0)), (v(1), v(3), f(1)), (v(2), v(3), f(2))]);
+    assert_eq!(
+        open,
+        vec![(v(1), v(2), f(0)), (v(1), v(3), f(1)), (v(2), v(3), f(2))]
+    );
 }
 
 #[test]
@@ -65,15 +76,24 @@ fn an_edge_in_four_faces_is_non_manifold() {
     // The second tetrahedron reuses vertices 0 and 1: edge 0-1 has 4 faces.
     let m = two_tetras([0., -1., -1.], [0, 1, 6, 7]);
     let r = validate(&m);
-    assert!(r.defects.iter().any(|d| matches!(d,
-        Defect::NonManifoldEdge { a, b, faces } if (*a, *b) == (v(0), v(1)) && faces.len() == 4)), "{r}");
+    assert!(
+        r.defects.iter().any(|d| matches!(d,
+        Defect::NonManifoldEdge { a, b, faces } if (*a, *b) == (v(0), v(1)) && faces.len() == 4)),
+        "{r}"
+    );
 }
 
 #[test]
 fn two_tetrahedra_sharing_a_vertex_make_a_bowtie() {
     let m = two_tetras([-1., -1., -1.], [4, 5, 6, 0]);
     let r = validate(&m);
-    assert!(r.defects.contains(&Defect::BowtieVertex { vertex: v(0), cycles: 2 }), "{r}");
+    assert!(
+        r.defects.contains(&Defect::BowtieVertex {
+            vertex: v(0),
+            cycles: 2
+        }),
+        "{r}"
+    );
 }
 
 #[test]
@@ -81,7 +101,10 @@ fn one_reversed_face_is_named_flipped() {
     let mut m = tetra();
     m.faces[3] = [v(1), v(3), v(2)];
     let r = validate(&m);
-    assert_eq!(r.errors().cloned().collect::<Vec<_>>(), vec![Defect::FlippedFace { face: f(3) }]);
+    assert_eq!(
+        r.errors().cloned().collect::<Vec<_>>(),
+        vec![Defect::FlippedFace { face: f(3) }]
+    );
 }
 
 #[test]
@@ -91,7 +114,12 @@ fn an_inside_out_mesh_has_negative_volume() {
         t.swap(1, 2);
     }
     let r = validate(&m);
-    assert_eq!(r.errors().cloned().collect::<Vec<_>>(), vec![Defect::NotOutward { volume: "-1/6".into() }]);
+    assert_eq!(
+        r.errors().cloned().collect::<Vec<_>>(),
+        vec![Defect::NotOutward {
+            volume: "-1/6".into()
+        }]
+    );
 }
 
 #[test]
@@ -101,7 +129,14 @@ fn a_flattened_tetrahedron_folds() {
     let mut m = tetra();
     m.positions[3] = [0.25, 0.25, 0.0];
     let r = validate(&m);
-    assert!(r.defects.contains(&Defect::Fold { a: v(0), b: v(1), faces: vec![f(0), f(1)] }), "{r}");
+    assert!(
+        r.defects.contains(&Defect::Fold {
+            a: v(0),
+            b: v(1),
+            faces: vec![f(0), f(1)]
+        }),
+        "{r}"
+    );
 }
 
 #[test]
@@ -111,9 +146,16 @@ fn out_of_range_repeated_and_non_finite_are_named() {
     m.faces.push([v(2), v(2), v(1)]);
     m.positions[1][2] = f64::NAN;
     let r = validate(&m);
-    assert!(r.defects.contains(&Defect::IndexOutOfRange { face: f(4), corner: 1, index: 7, vertices: 4 }));
+    assert!(r.defects.contains(&Defect::IndexOutOfRange {
+        face: f(4),
+        corner: 1,
+        index: 7,
+        vertices: 4
+    }));
     assert!(r.defects.contains(&Defect::RepeatedVertex { face: f(5) }));
-    assert!(r.defects.contains(&Defect::NonFiniteCoordinate { vertex: v(1) }));
+    assert!(r
+        .defects
+        .contains(&Defect::NonFiniteCoordinate { vertex: v(1) }));
 }
 
 #[test]
@@ -121,7 +163,13 @@ fn duplicate_faces_are_named() {
     let mut m = tetra();
     m.faces.push(m.faces[2]);
     let r = validate(&m);
-    assert!(r.defects.contains(&Defect::DuplicateFace { face: f(4), first: f(2) }), "{r}");
+    assert!(
+        r.defects.contains(&Defect::DuplicateFace {
+            face: f(4),
+            first: f(2)
+        }),
+        "{r}"
+    );
 }
 
 #[test]
@@ -129,7 +177,17 @@ fn zero_area_faces_are_reported_but_accepted() {
     // Vertex 4 at the midpoint of edge 0-1; face [0, 1, 4] has zero area.
     let mut pos = TETRA_POS.to_vec();
     pos.push([0.5, 0., 0.]);
-    let m = Mesh::from_raw(pos, vec![[0, 2, 1], [0, 1, 4], [0, 4, 3], [4, 1, 3], [0, 3, 2], [1, 2, 3]]);
+    let m = Mesh::from_raw(
+        pos,
+        vec![
+            [0, 2, 1],
+            [0, 1, 4],
+            [0, 4, 3],
+            [4, 1, 3],
+            [0, 3, 2],
+            [1, 2, 3],
+        ],
+    );
     let r = validate(&m);
     assert!(r.is_accepted(), "{r}");
     assert_eq!(r.defects, vec![Defect::ZeroAreaFace { face: f(1) }]);
@@ -163,17 +221,29 @@ fn check_exits_3_and_names_the_defect() {
     let cases = [
         ("open.off", open, "open edge"),
         ("flipped.off", flipped, "is flipped"),
-        ("bowtie.off", two_tetras([-1., -1., -1.], [4, 5, 6, 0]), "bowtie vertex v0"),
+        (
+            "bowtie.off",
+            two_tetras([-1., -1., -1.], [4, 5, 6, 0]),
+            "bowtie vertex v0",
+        ),
     ];
     for (name, mesh, needle) in cases {
         let path = write_off(dir.path(), name, &mesh);
-        let out = Command::new(env!("CARGO_BIN_EXE_wmslice")).arg("check").arg(&path).output().unwrap();
+        let out = Command::new(env!("CARGO_BIN_EXE_wmslice"))
+            .arg("check")
+            .arg(&path)
+            .output()
+            .unwrap();
         assert_eq!(out.status.code(), Some(3), "{name}");
         let text = String::from_utf8_lossy(&out.stdout);
         assert!(text.contains(needle), "{name}: {text}");
     }
     let good = write_off(dir.path(), "good.off", &tetra());
-    let out = Command::new(env!("CARGO_BIN_EXE_wmslice")).args(["check", "--json"]).arg(&good).output().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_wmslice"))
+        .args(["check", "--json"])
+        .arg(&good)
+        .output()
+        .unwrap();
     assert_eq!(out.status.code(), Some(0));
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(json["stats"]["volume"], "1/6");

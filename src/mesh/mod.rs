@@ -6,6 +6,7 @@
 //! values the file holds (every finite `f64` is an exact dyadic rational).
 
 pub mod io;
+pub mod snap;
 pub mod topology;
 pub mod validate;
 pub mod weld;

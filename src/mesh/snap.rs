@@ -149,7 +149,10 @@ mod tests {
     #[test]
     fn unwelded_corners_merge() {
         let a = 1.0f64;
-        let m = Mesh::from_raw(vec![[a, 0.0, 0.0], [a.next_up(), 0.0, 0.0], [0.0, 0.0, 0.0]], vec![[0, 2, 1]]);
+        let m = Mesh::from_raw(
+            vec![[a, 0.0, 0.0], [a.next_up(), 0.0, 0.0], [0.0, 0.0, 0.0]],
+            vec![[0, 2, 1]],
+        );
         let s = snap(&m, &parse_rational("0.001").unwrap()).unwrap();
         assert_eq!(s.merged, 1);
         assert_eq!(s.mesh.faces[0], [VertexId(0), VertexId(1), VertexId(0)]);
@@ -157,10 +160,22 @@ mod tests {
 
     #[test]
     fn ties_go_to_even_and_range_is_checked() {
-        assert_eq!(round_half_even(&parse_rational("5/2").unwrap()), BigInt::from(2));
-        assert_eq!(round_half_even(&parse_rational("-5/2").unwrap()), BigInt::from(-2));
-        assert_eq!(round_half_even(&parse_rational("7/2").unwrap()), BigInt::from(4));
+        assert_eq!(
+            round_half_even(&parse_rational("5/2").unwrap()),
+            BigInt::from(2)
+        );
+        assert_eq!(
+            round_half_even(&parse_rational("-5/2").unwrap()),
+            BigInt::from(-2)
+        );
+        assert_eq!(
+            round_half_even(&parse_rational("7/2").unwrap()),
+            BigInt::from(4)
+        );
         let m = Mesh::from_raw(vec![[1e300, 0.0, 0.0]], vec![]);
-        assert!(matches!(snap(&m, &parse_rational("1").unwrap()), Err(SnapError::OutOfRange { .. })));
+        assert!(matches!(
+            snap(&m, &parse_rational("1").unwrap()),
+            Err(SnapError::OutOfRange { .. })
+        ));
     }
 }

@@ -307,7 +307,11 @@ pub fn check_invariants(mesh: &Mesh, topo: &Topology) -> Result<(), String> {
                 return Err(format!("edge e{k} misses face {s}"));
             }
             let tri = mesh.faces[f.idx()];
-            let (from, to) = if s == 0 { (e.v[0], e.v[1]) } else { (e.v[1], e.v[0]) };
+            let (from, to) = if s == 0 {
+                (e.v[0], e.v[1])
+            } else {
+                (e.v[1], e.v[0])
+            };
             let c = (0..3).find(|&c| tri[c] == from && tri[(c + 1) % 3] == to);
             match c {
                 None => return Err(format!("face {f} does not run {from}->{to} of e{k}")),
@@ -329,13 +333,18 @@ pub fn check_invariants(mesh: &Mesh, topo: &Topology) -> Result<(), String> {
         for (k, entry) in fan.iter().enumerate() {
             let next = fan[(k + 1) % fan.len()].neighbour;
             let tri = mesh.faces[entry.face.idx()];
-            let ok = (0..3).any(|c| tri[c] == vid && tri[(c + 1) % 3] == entry.neighbour && tri[(c + 2) % 3] == next);
+            let ok = (0..3).any(|c| {
+                tri[c] == vid && tri[(c + 1) % 3] == entry.neighbour && tri[(c + 2) % 3] == next
+            });
             if !ok {
                 return Err(format!("fan of {vid} is not a cycle at {}", entry.face));
             }
             let e = topo.edge(entry.edge);
             if !(e.v.contains(&vid) && e.v.contains(&entry.neighbour)) {
-                return Err(format!("fan edge of {vid} does not join {}", entry.neighbour));
+                return Err(format!(
+                    "fan edge of {vid} does not join {}",
+                    entry.neighbour
+                ));
             }
             seen[entry.face.idx()] += 1;
         }

@@ -98,7 +98,10 @@ pub enum Defect {
         face: FaceId,
     },
     /// Two faces traverse an edge in the same direction.
-    #[error("edge {a}-{b} is traversed the same way by faces {}: inconsistent orientation", list(faces))]
+    #[error(
+        "edge {a}-{b} is traversed the same way by faces {}: inconsistent orientation",
+        list(faces)
+    )]
     InconsistentEdge {
         /// Endpoint.
         a: VertexId,
@@ -127,7 +130,9 @@ pub enum Defect {
         faces: Vec<FaceId>,
     },
     /// The exact signed volume is not positive: the mesh is inside out.
-    #[error("signed volume {volume} is not positive: faces must be counter-clockwise seen from outside")]
+    #[error(
+        "signed volume {volume} is not positive: faces must be counter-clockwise seen from outside"
+    )]
     NotOutward {
         /// The exact signed volume.
         volume: String,
@@ -147,7 +152,11 @@ pub enum Defect {
 }
 
 fn list(faces: &[FaceId]) -> String {
-    faces.iter().map(|f| f.to_string()).collect::<Vec<_>>().join(", ")
+    faces
+        .iter()
+        .map(|f| f.to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 impl Defect {
@@ -199,12 +208,18 @@ pub struct Report {
 impl Report {
     /// Whether the slicer accepts the mesh (no error-severity defect).
     pub fn is_accepted(&self) -> bool {
-        self.unlisted == 0 && self.defects.iter().all(|d| d.severity() == Severity::Warning)
+        self.unlisted == 0
+            && self
+                .defects
+                .iter()
+                .all(|d| d.severity() == Severity::Warning)
     }
 
     /// The blocking defects.
     pub fn errors(&self) -> impl Iterator<Item = &Defect> {
-        self.defects.iter().filter(|d| d.severity() == Severity::Error)
+        self.defects
+            .iter()
+            .filter(|d| d.severity() == Severity::Error)
     }
 }
 
@@ -291,7 +306,10 @@ pub fn validate(mesh: &Mesh) -> Report {
     let closed_manifold = issues.is_empty();
     report_topology_issues(mesh, issues, &mut sink);
 
-    let finite = mesh.positions.iter().all(|p| p.iter().all(|x| x.is_finite()));
+    let finite = mesh
+        .positions
+        .iter()
+        .all(|p| p.iter().all(|x| x.is_finite()));
     let mut used = vec![false; nv];
     for tri in &mesh.faces {
         for v in tri {
@@ -341,7 +359,10 @@ pub fn validate(mesh: &Mesh) -> Report {
 }
 
 fn bounding_box(mesh: &Mesh) -> Option<[[f64; 3]; 2]> {
-    let mut it = mesh.positions.iter().filter(|p| p.iter().all(|x| x.is_finite()));
+    let mut it = mesh
+        .positions
+        .iter()
+        .filter(|p| p.iter().all(|x| x.is_finite()));
     let first = *it.next()?;
     let mut bb = [first, first];
     for p in it {
@@ -496,9 +517,18 @@ impl fmt::Display for Report {
             None => writeln!(f, "genus      - (not a closed manifold)")?,
         }
         if let Some([lo, hi]) = s.bounding_box {
-            writeln!(f, "bbox       [{}, {}, {}] .. [{}, {}, {}]", lo[0], lo[1], lo[2], hi[0], hi[1], hi[2])?;
+            writeln!(
+                f,
+                "bbox       [{}, {}, {}] .. [{}, {}, {}]",
+                lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]
+            )?;
         }
-        writeln!(f, "volume     {} (~{})", s.volume, crate::exact::rational::rat_to_f64(&self.volume))?;
+        writeln!(
+            f,
+            "volume     {} (~{})",
+            s.volume,
+            crate::exact::rational::rat_to_f64(&self.volume)
+        )?;
         for d in &self.defects {
             let tag = match d.severity() {
                 Severity::Error => "error",

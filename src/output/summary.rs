@@ -25,7 +25,12 @@ fn roles(loops: &[Loop]) -> (usize, usize) {
 pub fn summary(ls: &LevelSet) -> String {
     let mut s = String::new();
     let (o, h) = roles(&ls.contours);
-    let _ = writeln!(s, "level z = {} (~{})", rat_to_string(&ls.level), rat_to_f64(&ls.level));
+    let _ = writeln!(
+        s,
+        "level z = {} (~{})",
+        rat_to_string(&ls.level),
+        rat_to_f64(&ls.level)
+    );
     let _ = writeln!(
         s,
         "  contours S_O : {} loops ({o} outer, {h} hole), area {}",

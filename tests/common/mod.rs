@@ -30,7 +30,11 @@ impl Slab {
             for j in 0..=ny {
                 for i in 0..=nx {
                     let k = idx(i, j);
-                    let z = if layer == 0 { self.bot[k] } else { self.bot[k] + self.thick[k] };
+                    let z = if layer == 0 {
+                        self.bot[k]
+                    } else {
+                        self.bot[k] + self.thick[k]
+                    };
                     pos.push([i as f64, j as f64, z as f64]);
                 }
             }
