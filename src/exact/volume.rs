@@ -166,4 +166,20 @@ mod tests {
             assert_eq!(signed_volume(&m), reference(&m));
         }
     }
+
+    proptest::proptest! {
+        /// The i128 path and the BigInt path both equal the plain rational
+        /// reference, on tetrahedra with random dyadic or decimal
+        /// coordinates (small ones take the i128 path, others the BigInt one).
+        #[test]
+        fn fast_and_wide_paths_equal_the_rational_reference(
+            s in -1000i32..1000, t in proptest::array::uniform3(-1_000_000i64..1_000_000),
+            scale_exp in -40i32..10, decimal in proptest::bool::ANY
+        ) {
+            let s = if s == 0 { 1.0 } else { f64::from(s) };
+            let f = if decimal { 0.1 } else { 2f64.powi(scale_exp) };
+            let m = tetra(s * f, t.map(|x| x as f64 * f));
+            proptest::prop_assert_eq!(signed_volume(&m), reference(&m));
+        }
+    }
 }
