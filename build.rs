@@ -1,1 +1,31 @@
-fn main() {}
+//! Input: the Cargo feature `cgal-oracle` (seen as `CARGO_FEATURE_CGAL_ORACLE`).
+//! Output: with the feature, the C++ CGAL test oracle `cpp-oracle/oracle.cpp`
+//! compiled (C++17, `-O1`) into a static library and linked with `gmp`,
+//! `mpfr` and `stdc++`; without it, nothing (the default build needs
+//! neither CGAL nor a C++ toolchain).
+
+fn main() {
+    println!("cargo:rerun-if-changed=build.rs");
+    if std::env::var_os("CARGO_FEATURE_CGAL_ORACLE").is_some() {
+        #[cfg(feature = "cgal-oracle")]
+        build_oracle();
+    }
+}
+
+/// Compiles the oracle (about 30 s: CGAL is header-only and heavy).
+#[cfg(feature = "cgal-oracle")]
+fn build_oracle() {
+    println!("cargo:rerun-if-changed=cpp-oracle/oracle.cpp");
+    println!("cargo:rerun-if-changed=cpp-oracle/oracle.h");
+    cc::Build::new()
+        .cpp(true)
+        .std("c++17")
+        .opt_level(1)
+        .debug(false)
+        .file("cpp-oracle/oracle.cpp")
+        .include("cpp-oracle")
+        .compile("wmslice_cgal_oracle");
+    for lib in ["gmp", "mpfr", "stdc++"] {
+        println!("cargo:rustc-link-lib={lib}");
+    }
+}

@@ -6,7 +6,17 @@ cd "$(dirname "$0")/.."
 log=$(mktemp)
 trap 'rm -f "$log"' EXIT
 status=0
-cargo test --all-targets --no-fail-fast "$@" 2>&1 | tee -a "$log" || status=1
+# The CGAL oracle (feature cgal-oracle) needs Debian's CGAL, GMP, MPFR and
+# Boost headers; install them when missing (set WMSLICE_NO_ORACLE=1 to skip).
+features=()
+if [ "${WMSLICE_NO_ORACLE:-0}" != 1 ]; then
+  pkgs=(libcgal-dev libgmp-dev libmpfr-dev libboost-dev g++)
+  if ! dpkg -s "${pkgs[@]}" >/dev/null 2>&1; then
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${pkgs[@]}" >/dev/null
+  fi
+  features=(--features cgal-oracle)
+fi
+cargo test --all-targets --no-fail-fast "${features[@]}" "$@" 2>&1 | tee -a "$log" || status=1
 cargo test --doc --no-fail-fast "$@" 2>&1 | tee -a "$log" || status=1
 passed=$(awk '/^test result:/ { for (i = 1; i < NF; i++) if ($(i+1) ~ /^passed/) s += $i } END { print s + 0 }' "$log")
 failed=$(awk '/^test result:/ { for (i = 1; i < NF; i++) if ($(i+1) ~ /^failed/) s += $i } END { print s + 0 }' "$log")

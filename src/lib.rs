@@ -31,3 +31,5 @@ pub mod output;
 #[doc = include_str!("../README.md")]
 #[cfg(doctest)]
 pub struct ReadmeDoctests;
+#[cfg(feature = "cgal-oracle")]
+pub mod oracle;

@@ -31,13 +31,32 @@ fn every_dataset_round_trips_through_every_format() {
         let want = canonical(&mesh);
         let volume = validate(&mesh).volume;
         for format in MeshFormat::ALL {
-            let path = dir.path().join(format!("{}-{format:?}.{}", d.name, format.extension()));
-            mesh.save_as(&path, format).unwrap_or_else(|e| panic!("{} {format:?}: {e}", d.name));
-            let (back, report) = load(&path).unwrap_or_else(|e| panic!("{} {format:?}: {e}", d.name));
+            let path = dir
+                .path()
+                .join(format!("{}-{format:?}.{}", d.name, format.extension()));
+            mesh.save_as(&path, format)
+                .unwrap_or_else(|e| panic!("{} {format:?}: {e}", d.name));
+            let (back, report) =
+                load(&path).unwrap_or_else(|e| panic!("{} {format:?}: {e}", d.name));
             assert_eq!(report.format, format, "{}: detected format", d.name);
-            assert_eq!(back.num_vertices(), mesh.num_vertices(), "{} {format:?}: welded vertex count", d.name);
-            assert_eq!(canonical(&back), want, "{} {format:?}: faces differ", d.name);
-            assert_eq!(validate(&back).volume, volume, "{} {format:?}: volume", d.name);
+            assert_eq!(
+                back.num_vertices(),
+                mesh.num_vertices(),
+                "{} {format:?}: welded vertex count",
+                d.name
+            );
+            assert_eq!(
+                canonical(&back),
+                want,
+                "{} {format:?}: faces differ",
+                d.name
+            );
+            assert_eq!(
+                validate(&back).volume,
+                volume,
+                "{} {format:?}: volume",
+                d.name
+            );
         }
     }
 }
