@@ -1,0 +1,204 @@
+//! Input: a point with `f64` coordinates and a chain of 3MF affine
+//! transforms (12 `f64` entries each). Output: the transformed point, or
+//! `None` when some coordinate of its exact image is not an `f64`.
+//!
+//! Every finite `f64` is a dyadic rational `m * 2^e`; sums and products of
+//! dyadics are dyadic, so the image is computed exactly with big integers
+//! (no rounding anywhere) and converted back only if that loses nothing.
+//! The whole chain is applied exactly; only the final point must be `f64`.
+
+use num_bigint::BigInt;
+use num_traits::{Signed, ToPrimitive, Zero};
+
+/// A 3MF transform: `m00 m01 m02 m10 m11 m12 m20 m21 m22 m30 m31 m32`,
+/// row-vector convention: `x' = x m00 + y m10 + z m20 + m30`, and so on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Affine(pub(super) [f64; 12]);
+
+impl Affine {
+    pub(super) const IDENTITY: Affine =
+        Affine([1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]);
+
+    pub(super) fn is_identity(&self) -> bool {
+        self.0 == Self::IDENTITY.0
+    }
+
+    /// Whether the linear part is the identity (a pure translation).
+    fn is_translation(&self) -> bool {
+        self.0[..9] == Self::IDENTITY.0[..9]
+    }
+}
+
+/// An exact dyadic rational `m * 2^e`.
+#[derive(Clone, Debug)]
+struct Dyadic {
+    m: BigInt,
+    e: i64,
+}
+
+impl Dyadic {
+    /// The exact value of a finite `f64`.
+    fn from_f64(x: f64) -> Dyadic {
+        let bits = x.to_bits();
+        let negative = bits >> 63 == 1;
+        let exp = ((bits >> 52) & 0x7ff) as i64;
+        let frac = bits & ((1u64 << 52) - 1);
+        let (m, e) = if exp == 0 {
+            (frac, -1074)
+        } else {
+            (frac | (1u64 << 52), exp - 1075)
+        };
+        let m = BigInt::from(m);
+        Dyadic {
+            m: if negative { -m } else { m },
+            e,
+        }
+    }
+
+    fn mul(&self, other: &Dyadic) -> Dyadic {
+        Dyadic {
+            m: &self.m * &other.m,
+            e: self.e + other.e,
+        }
+    }
+
+    fn add(&self, other: &Dyadic) -> Dyadic {
+        if self.m.is_zero() {
+            return other.clone();
+        }
+        if other.m.is_zero() {
+            return self.clone();
+        }
+        let (lo, hi) = if self.e <= other.e {
+            (self, other)
+        } else {
+            (other, self)
+        };
+        // The exponents of finite f64 products stay within a few thousand.
+        let shift = (hi.e - lo.e) as usize;
+        Dyadic {
+            m: &lo.m + (&hi.m << shift),
+            e: lo.e,
+        }
+    }
+
+    /// The `f64` with exactly this value, if there is one.
+    fn to_f64(&self) -> Option<f64> {
+        if self.m.is_zero() {
+            return Some(0.0);
+        }
+        let tz = self.m.trailing_zeros().unwrap_or(0);
+        let m = &self.m >> tz;
+        let e = self.e.checked_add(i64::try_from(tz).ok()?)?;
+        let bits = i64::try_from(m.bits()).ok()?;
+        if bits > 53 || e < -1074 || e + bits > 1024 {
+            return None;
+        }
+        let mant = m.abs().to_u64()? as f64; // at most 53 bits: exact
+        let pow = if e >= -1022 {
+            f64::from_bits(((e + 1023) as u64) << 52)
+        } else {
+            f64::from_bits(1u64 << (e + 1074))
+        };
+        let v = mant * pow; // representable, hence exact
+        Some(if m.is_negative() { -v } else { v })
+    }
+}
+
+/// Applies `chain` (innermost transform first) to `p` exactly; `None` if a
+/// coordinate of the exact image is not an `f64` (or an input is not
+/// finite while a transform is not the identity).
+pub(super) fn apply_chain(p: [f64; 3], chain: &[Affine]) -> Option<[f64; 3]> {
+    let active: Vec<&Affine> = chain.iter().filter(|t| !t.is_identity()).collect();
+    match active.as_slice() {
+        [] => return Some(p),
+        [t] if t.is_translation() => return translate(p, [t.0[9], t.0[10], t.0[11]]),
+        _ => {}
+    }
+    if !p.iter().all(|x| x.is_finite()) {
+        return None;
+    }
+    let mut q = p.map(Dyadic::from_f64);
+    for t in active {
+        let m = t.0.map(Dyadic::from_f64);
+        let row = |c: usize| {
+            q[0].mul(&m[c])
+                .add(&q[1].mul(&m[3 + c]))
+                .add(&q[2].mul(&m[6 + c]))
+                .add(&m[9 + c])
+        };
+        q = [row(0), row(1), row(2)];
+    }
+    Some([q[0].to_f64()?, q[1].to_f64()?, q[2].to_f64()?])
+}
+
+/// `p + t` coordinate-wise, if every sum is exact (checked with the
+/// error-free two-sum: the rounding error of a finite sum is itself an f64).
+fn translate(p: [f64; 3], t: [f64; 3]) -> Option<[f64; 3]> {
+    let mut out = [0.0; 3];
+    for i in 0..3 {
+        let (a, b) = (p[i], t[i]);
+        let s = a + b;
+        if !s.is_finite() {
+            return None;
+        }
+        let bb = s - a;
+        let err = (a - (s - bb)) + (b - bb);
+        if err != 0.0 {
+            return None;
+        }
+        out[i] = s;
+    }
+    Some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dyadic_round_trips_every_kind_of_f64() {
+        for x in [
+            0.0,
+            -0.0,
+            1.0,
+            0.1,
+            -3.75,
+            f64::MAX,
+            f64::MIN_POSITIVE,
+            5e-324,
+            -2.5e-310,
+        ] {
+            let back = Dyadic::from_f64(x).to_f64().unwrap();
+            assert_eq!(back, x);
+        }
+    }
+
+    #[test]
+    fn integer_scale_and_translation_are_exact() {
+        let t = Affine([
+            2.0, 0.0, 0.0, 0.0, 0.5, 0.0, 0.0, 0.0, -1.0, 10.0, 0.25, 3.0,
+        ]);
+        assert_eq!(apply_chain([0.75, 3.0, 1.5], &[t]), Some([11.5, 1.75, 1.5]));
+    }
+
+    #[test]
+    fn rounding_product_is_refused() {
+        let t = Affine([0.1, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]);
+        assert_eq!(apply_chain([0.1, 0.0, 0.0], &[t]), None);
+        // A translation whose sum would round is refused too.
+        let shift = Affine([1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 1e20, 0.0, 0.0]);
+        assert_eq!(apply_chain([0.1, 0.0, 0.0], &[shift]), None);
+    }
+
+    #[test]
+    fn chains_compose_exactly() {
+        let rot = Affine([0.0, 1.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]);
+        let shift = Affine([1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 1.0, 2.0, 3.0]);
+        // (x, y, z) -> (-y, x, z) -> (-y + 1, x + 2, z + 3)
+        assert_eq!(
+            apply_chain([0.5, 0.25, 0.0], &[rot, shift]),
+            Some([0.75, 2.5, 3.0])
+        );
+    }
+}

@@ -1,0 +1,442 @@
+//! Input: mesh files (or their bytes) in STL (binary and ASCII), Wavefront
+//! OBJ, OFF, PLY (ASCII, binary little and big endian) and 3MF. Output: a
+//! [`Mesh`] with coordinates exactly as the file holds them, plus a
+//! [`LoadReport`] saying what the loader did (welding, triangulation,
+//! transforms); and the writers for the same formats.
+//!
+//! Exactness: binary formats keep their `f32`/`f64` values bit for bit; text
+//! formats are parsed with Rust's correctly rounded `f64` parser and written
+//! with the shortest round-trip formatting, so every writer/reader pair gives
+//! back the same coordinates. Binary STL (`f32`) refuses, with
+//! [`SaveError::NotF32Exact`], a coordinate it would round unless
+//! [`SaveOptions::lossy_f32`] asks for it.
+//!
+//! Safety: no input panics; memory is bounded by the input size (counts in
+//! headers are checked against the bytes that follow before anything is
+//! allocated for them; 3MF parts are inflated under size and ratio limits).
+//! Vertex and face counts are limited to [`MAX_ELEMENTS`] (`u32::MAX - 1`).
+//!
+//! Out-of-range face indices in OBJ, OFF and PLY still load (as ids `>=` the
+//! vertex count) so that validation can report them with element ids.
+//!
+//! Outputs are written atomically: into a temporary file in the target
+//! directory, then renamed over the target; an error leaves no partial file.
+
+mod error;
+mod exact_transform;
+mod obj;
+mod off;
+mod ply;
+mod stl;
+mod text;
+mod threemf;
+
+use std::fmt;
+use std::io::{self, BufWriter, Write};
+use std::path::Path;
+
+pub use error::{InvalidIndexReason, LoadError, SaveError};
+
+use super::Mesh;
+use crate::ids::{FaceId, VertexId};
+pub use crate::mesh::weld::MAX_ELEMENTS;
+
+/// A mesh file format (with its encoding).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MeshFormat {
+    /// Binary STL: `f32` triangle soup.
+    StlBinary,
+    /// ASCII STL: text triangle soup.
+    StlAscii,
+    /// Wavefront OBJ.
+    Obj,
+    /// Object File Format.
+    Off,
+    /// PLY, ASCII encoding.
+    PlyAscii,
+    /// PLY, binary little endian.
+    PlyBinaryLittleEndian,
+    /// PLY, binary big endian.
+    PlyBinaryBigEndian,
+    /// 3D Manufacturing Format (zip package of XML).
+    ThreeMf,
+}
+
+impl MeshFormat {
+    /// Every format, for tests and help texts.
+    pub const ALL: [MeshFormat; 8] = [
+        MeshFormat::StlBinary,
+        MeshFormat::StlAscii,
+        MeshFormat::Obj,
+        MeshFormat::Off,
+        MeshFormat::PlyAscii,
+        MeshFormat::PlyBinaryLittleEndian,
+        MeshFormat::PlyBinaryBigEndian,
+        MeshFormat::ThreeMf,
+    ];
+
+    /// The format a file extension names (case-insensitive, without the
+    /// dot): the default encoding of its family (`stl` is binary STL, `ply`
+    /// binary little-endian PLY). Readers decide the encoding by content.
+    pub fn from_extension(ext: &str) -> Option<MeshFormat> {
+        let ext = ext.to_ascii_lowercase();
+        Some(match ext.as_str() {
+            "stl" => MeshFormat::StlBinary,
+            "obj" => MeshFormat::Obj,
+            "off" => MeshFormat::Off,
+            "ply" => MeshFormat::PlyBinaryLittleEndian,
+            "3mf" => MeshFormat::ThreeMf,
+            _ => return None,
+        })
+    }
+
+    /// The usual file extension (without the dot).
+    pub fn extension(self) -> &'static str {
+        match self {
+            MeshFormat::StlBinary | MeshFormat::StlAscii => "stl",
+            MeshFormat::Obj => "obj",
+            MeshFormat::Off => "off",
+            MeshFormat::PlyAscii
+            | MeshFormat::PlyBinaryLittleEndian
+            | MeshFormat::PlyBinaryBigEndian => "ply",
+            MeshFormat::ThreeMf => "3mf",
+        }
+    }
+
+    /// Whether two formats are encodings of one family (both STL, both PLY,
+    /// or equal).
+    pub fn same_family(self, other: MeshFormat) -> bool {
+        self.extension() == other.extension()
+    }
+}
+
+impl fmt::Display for MeshFormat {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            MeshFormat::StlBinary => "binary STL",
+            MeshFormat::StlAscii => "ASCII STL",
+            MeshFormat::Obj => "OBJ",
+            MeshFormat::Off => "OFF",
+            MeshFormat::PlyAscii => "ASCII PLY",
+            MeshFormat::PlyBinaryLittleEndian => "binary little-endian PLY",
+            MeshFormat::PlyBinaryBigEndian => "binary big-endian PLY",
+            MeshFormat::ThreeMf => "3MF",
+        })
+    }
+}
+
+/// What the loader did besides reading: one typed note per step.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum LoadNote {
+    /// Polygons with more than three vertices were split into fans.
+    Triangulated {
+        /// Polygons split.
+        polygons: usize,
+        /// Triangles they became.
+        triangles: usize,
+    },
+    /// A triangle soup (STL) was welded by exact coordinate equality.
+    Welded {
+        /// Corners read (three per triangle).
+        corners: usize,
+        /// Distinct vertices kept.
+        vertices: usize,
+    },
+    /// A 3MF build item carried a non-identity transform (its own or its
+    /// components'), applied exactly.
+    TransformApplied {
+        /// The build item (0-based).
+        item: usize,
+        /// The object it places.
+        object: u64,
+    },
+    /// A binary STL whose 80-byte header starts with `solid` (read as
+    /// binary because its size is exactly 84 + 50 n).
+    BinaryStlHeaderSaysSolid,
+    /// Bytes after the data the file declares, ignored.
+    TrailingBytes {
+        /// How many.
+        bytes: u64,
+    },
+    /// Elements the mesh does not use (OBJ lines and points, PLY elements
+    /// other than vertices and faces, ...), skipped.
+    Ignored {
+        /// What was skipped.
+        kind: String,
+        /// How many.
+        count: usize,
+    },
+    /// A 3MF model in a unit other than millimetres: coordinates are kept
+    /// as written, not scaled.
+    Unit {
+        /// The unit the file names.
+        unit: String,
+    },
+}
+
+impl fmt::Display for LoadNote {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            LoadNote::Triangulated {
+                polygons,
+                triangles,
+            } => write!(
+                f,
+                "triangulated {polygons} polygons into {triangles} triangles (fans)"
+            ),
+            LoadNote::Welded { corners, vertices } => write!(
+                f,
+                "welded {corners} corners into {vertices} vertices (exact coordinate equality)"
+            ),
+            LoadNote::TransformApplied { item, object } => write!(
+                f,
+                "build item {item} (object {object}): transform applied exactly"
+            ),
+            LoadNote::BinaryStlHeaderSaysSolid => {
+                f.write_str("binary STL whose header starts with `solid` (size matches 84 + 50 n)")
+            }
+            LoadNote::TrailingBytes { bytes } => {
+                write!(f, "{bytes} trailing bytes after the data ignored")
+            }
+            LoadNote::Ignored { kind, count } => write!(f, "ignored {count} {kind}"),
+            LoadNote::Unit { unit } => write!(
+                f,
+                "the model unit is `{unit}`: coordinates kept as written, not converted to mm"
+            ),
+        }
+    }
+}
+
+/// What was read and how.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct LoadReport {
+    /// The format and encoding actually read.
+    pub format: MeshFormat,
+    /// Steps the loader took, in order.
+    pub notes: Vec<LoadNote>,
+}
+
+impl fmt::Display for LoadReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "read as {}", self.format)?;
+        for n in &self.notes {
+            write!(f, "; {n}")?;
+        }
+        Ok(())
+    }
+}
+
+/// Options for the writers.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SaveOptions {
+    /// Binary STL only: round coordinates to the nearest `f32` instead of
+    /// refusing a mesh that `f32` cannot hold exactly.
+    pub lossy_f32: bool,
+}
+
+/// Reads a mesh file. The extension picks the family (STL, OBJ, OFF, PLY,
+/// 3MF); the content decides the encoding (binary or ASCII STL, PLY's
+/// `format` line). Files without a known extension are recognized by
+/// content.
+pub fn load(path: &Path) -> Result<(Mesh, LoadReport), LoadError> {
+    let ext = path.extension().and_then(|e| e.to_str());
+    let hint = ext.and_then(MeshFormat::from_extension);
+    let bytes = std::fs::read(path).map_err(|source| LoadError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    match hint {
+        Some(_) => load_bytes(&bytes, hint),
+        None => {
+            let format = detect_format(&bytes).ok_or_else(|| LoadError::UnknownFormat {
+                extension: ext.map(str::to_owned),
+            })?;
+            load_bytes(&bytes, Some(format))
+        }
+    }
+}
+
+/// Reads a mesh from bytes. `hint` picks the family (the encoding within it,
+/// binary or ASCII STL, PLY's encoding, is always decided by content); with
+/// `None` the format is recognized by content ([`detect_format`]).
+pub fn load_bytes(bytes: &[u8], hint: Option<MeshFormat>) -> Result<(Mesh, LoadReport), LoadError> {
+    let format = match hint {
+        Some(f) => f,
+        None => detect_format(bytes).ok_or(LoadError::UnknownFormat { extension: None })?,
+    };
+    match format {
+        MeshFormat::StlBinary | MeshFormat::StlAscii => stl::read(bytes),
+        MeshFormat::Obj => obj::read(bytes),
+        MeshFormat::Off => off::read(bytes),
+        MeshFormat::PlyAscii
+        | MeshFormat::PlyBinaryLittleEndian
+        | MeshFormat::PlyBinaryBigEndian => ply::read(bytes),
+        MeshFormat::ThreeMf => threemf::read(bytes),
+    }
+}
+
+/// Recognizes a format by content alone: the zip signature (3MF), `ply`,
+/// an `OFF` header, binary STL by its exact size 84 + 50 n, `solid` (ASCII
+/// STL), OBJ statements. `None` when nothing matches.
+pub fn detect_format(bytes: &[u8]) -> Option<MeshFormat> {
+    if bytes.starts_with(b"PK\x03\x04") {
+        return Some(MeshFormat::ThreeMf);
+    }
+    if bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r") {
+        return Some(ply::encoding_hint(bytes));
+    }
+    if stl::binary_size_matches(bytes) {
+        return Some(MeshFormat::StlBinary);
+    }
+    let mut first_tokens = text::Lines::new(bytes)
+        .filter_map(|(_, line)| text::tokens(line).next())
+        .filter(|t| !t.starts_with(b"#"))
+        .take(64);
+    let first = first_tokens.next()?;
+    if off::is_off_keyword(first) {
+        return Some(MeshFormat::Off);
+    }
+    if first.eq_ignore_ascii_case(b"solid") {
+        return Some(MeshFormat::StlAscii);
+    }
+    let obj_keyword = |t: &[u8]| {
+        matches!(
+            t,
+            b"v" | b"vt" | b"vn" | b"f" | b"o" | b"g" | b"mtllib" | b"usemtl" | b"s"
+        )
+    };
+    if obj_keyword(first) || first_tokens.any(obj_keyword) {
+        return Some(MeshFormat::Obj);
+    }
+    None
+}
+
+/// Writes `mesh` in `format` to `out` (not atomic; see [`save_mesh`]).
+pub fn write_mesh<W: Write>(
+    mesh: &Mesh,
+    format: MeshFormat,
+    options: SaveOptions,
+    out: &mut W,
+) -> Result<(), SaveError> {
+    check_indices(mesh)?;
+    match format {
+        MeshFormat::StlBinary => stl::write_binary(mesh, options.lossy_f32, out),
+        MeshFormat::StlAscii => stl::write_ascii(mesh, out),
+        MeshFormat::Obj => obj::write(mesh, out),
+        MeshFormat::Off => off::write(mesh, out),
+        MeshFormat::PlyAscii
+        | MeshFormat::PlyBinaryLittleEndian
+        | MeshFormat::PlyBinaryBigEndian => ply::write(mesh, format, out),
+        MeshFormat::ThreeMf => threemf::write(mesh, out),
+    }
+}
+
+/// Writes `mesh` to `path` atomically: into a temporary file in the same
+/// directory, synced, then renamed over `path`. On error no file is left.
+pub fn save_mesh(
+    mesh: &Mesh,
+    path: &Path,
+    format: MeshFormat,
+    options: SaveOptions,
+) -> Result<(), SaveError> {
+    let io_err = |source: io::Error| SaveError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let mut tmp = tempfile::NamedTempFile::new_in(dir).map_err(io_err)?;
+    {
+        let mut w = BufWriter::new(tmp.as_file_mut());
+        write_mesh(mesh, format, options, &mut w).map_err(|e| match e {
+            SaveError::Write { source } => io_err(source),
+            other => other,
+        })?;
+        w.flush().map_err(io_err)?;
+    }
+    tmp.as_file().sync_all().map_err(io_err)?;
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let mode = std::fs::metadata(path)
+            .map(|m| m.permissions().mode())
+            .unwrap_or(0o644);
+        tmp.as_file()
+            .set_permissions(std::fs::Permissions::from_mode(mode))
+            .map_err(io_err)?;
+    }
+    tmp.persist(path).map_err(|e| io_err(e.error))?;
+    Ok(())
+}
+
+impl Mesh {
+    /// Reads a mesh file (see [`load`]); the report is dropped.
+    pub fn load(path: &Path) -> Result<Mesh, LoadError> {
+        load(path).map(|(mesh, _)| mesh)
+    }
+
+    /// Writes the mesh atomically, the format chosen by the extension:
+    /// `.stl` binary STL, `.obj`, `.off`, `.ply` binary little-endian PLY,
+    /// `.3mf`.
+    pub fn save(&self, path: &Path) -> Result<(), SaveError> {
+        let format = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .and_then(MeshFormat::from_extension)
+            .ok_or_else(|| SaveError::UnknownFormat {
+                path: path.to_path_buf(),
+            })?;
+        self.save_as(path, format)
+    }
+
+    /// Writes the mesh atomically in the given format (e.g. ASCII STL or
+    /// ASCII PLY, whatever the extension).
+    pub fn save_as(&self, path: &Path, format: MeshFormat) -> Result<(), SaveError> {
+        save_mesh(self, path, format, SaveOptions::default())
+    }
+
+    /// Writes the mesh atomically with explicit options.
+    pub fn save_with(
+        &self,
+        path: &Path,
+        format: MeshFormat,
+        options: SaveOptions,
+    ) -> Result<(), SaveError> {
+        save_mesh(self, path, format, options)
+    }
+}
+
+/// Every writer dereferences faces: refuse out-of-range ids up front.
+fn check_indices(mesh: &Mesh) -> Result<(), SaveError> {
+    let n = mesh.positions.len();
+    for (f, tri) in mesh.faces.iter().enumerate() {
+        for &v in tri {
+            if v.idx() >= n {
+                return Err(SaveError::IndexOutOfRange {
+                    face: FaceId::from_idx(f),
+                    vertex: v,
+                    vertices: n,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Maps a writer's I/O error.
+fn write_err(source: io::Error) -> SaveError {
+    SaveError::Write { source }
+}
+
+/// The three corner positions of a face (indices checked beforehand).
+fn corners(mesh: &Mesh, tri: &[VertexId; 3]) -> [[f64; 3]; 3] {
+    let p = |v: VertexId| {
+        mesh.positions
+            .get(v.idx())
+            .copied()
+            .unwrap_or([f64::NAN; 3])
+    };
+    [p(tri[0]), p(tri[1]), p(tri[2])]
+}

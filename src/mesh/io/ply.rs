@@ -1,0 +1,419 @@
+//! Input: PLY bytes (ASCII, binary little or big endian). Output: a
+//! [`Mesh`] from the `vertex` element (`x`, `y`, `z` of any numeric type,
+//! converted to `f64` exactly) and the `face` element (`vertex_indices` or
+//! `vertex_index`, a list of any integer type), polygons split into fans;
+//! and the PLY writer (doubles, `uint` indices). Both through `ply-rs-bw`.
+//!
+//! Before the payload is parsed, the element counts are checked against the
+//! bytes that follow (each element takes at least its binary size, or two
+//! bytes per property in ASCII), so a lying header fails before allocating.
+
+use std::io::{Cursor, Write};
+
+use ply_rs_bw::parser::{Parser, Reader};
+use ply_rs_bw::ply::{
+    Addable, ElementDef, Encoding, Header, PropertyAccess, PropertyAccessResult, PropertyDef,
+    PropertyType, ScalarType,
+};
+use ply_rs_bw::writer::Writer;
+
+use super::text::FaceSink;
+use super::{write_err, LoadError, LoadNote, LoadReport, MeshFormat, SaveError, MAX_ELEMENTS};
+use crate::mesh::Mesh;
+
+/// The format (encoding) a PLY header announces, for format detection;
+/// ASCII when the `format` line is missing or unknown.
+pub(super) fn encoding_hint(bytes: &[u8]) -> MeshFormat {
+    let head = &bytes[..bytes.len().min(512)];
+    let has = |s: &[u8]| head.windows(s.len()).any(|w| w == s);
+    if has(b"binary_little_endian") {
+        MeshFormat::PlyBinaryLittleEndian
+    } else if has(b"binary_big_endian") {
+        MeshFormat::PlyBinaryBigEndian
+    } else {
+        MeshFormat::PlyAscii
+    }
+}
+
+fn format_of(encoding: Encoding) -> MeshFormat {
+    match encoding {
+        Encoding::Ascii => MeshFormat::PlyAscii,
+        Encoding::BinaryLittleEndian => MeshFormat::PlyBinaryLittleEndian,
+        Encoding::BinaryBigEndian => MeshFormat::PlyBinaryBigEndian,
+    }
+}
+
+/// One parsed element of any kind: coordinates and an index list, the
+/// properties this reader uses; everything else is ignored.
+#[derive(Debug, Default)]
+struct Element {
+    xyz: [f64; 3],
+    indices: Vec<u32>,
+    /// A negative value in the index list (cannot be a vertex id).
+    negative_index: Option<i64>,
+}
+
+fn coordinate_slot(name: &str) -> Option<usize> {
+    match name {
+        "x" => Some(0),
+        "y" => Some(1),
+        "z" => Some(2),
+        _ => None,
+    }
+}
+
+fn is_index_list(name: &str) -> bool {
+    name == "vertex_indices" || name == "vertex_index"
+}
+
+impl Element {
+    fn set_coordinate(&mut self, name: &str, value: f64) -> PropertyAccessResult {
+        match coordinate_slot(name) {
+            Some(i) => {
+                self.xyz[i] = value;
+                PropertyAccessResult::Set
+            }
+            None => PropertyAccessResult::Ignored,
+        }
+    }
+
+    fn set_indices<T: Copy + Into<i64>>(
+        &mut self,
+        name: &str,
+        values: &[T],
+    ) -> PropertyAccessResult {
+        if !is_index_list(name) {
+            return PropertyAccessResult::Ignored;
+        }
+        self.indices.clear();
+        self.indices.reserve(values.len());
+        for &v in values {
+            let v: i64 = v.into();
+            match u32::try_from(v) {
+                Ok(i) => self.indices.push(i),
+                Err(_) => {
+                    self.negative_index.get_or_insert(v);
+                }
+            }
+        }
+        PropertyAccessResult::Set
+    }
+}
+
+impl PropertyAccess for Element {
+    fn new() -> Self {
+        Element::default()
+    }
+    fn set_char(&mut self, name: &str, value: i8) -> PropertyAccessResult {
+        self.set_coordinate(name, f64::from(value))
+    }
+    fn set_uchar(&mut self, name: &str, value: u8) -> PropertyAccessResult {
+        self.set_coordinate(name, f64::from(value))
+    }
+    fn set_short(&mut self, name: &str, value: i16) -> PropertyAccessResult {
+        self.set_coordinate(name, f64::from(value))
+    }
+    fn set_ushort(&mut self, name: &str, value: u16) -> PropertyAccessResult {
+        self.set_coordinate(name, f64::from(value))
+    }
+    fn set_int(&mut self, name: &str, value: i32) -> PropertyAccessResult {
+        self.set_coordinate(name, f64::from(value))
+    }
+    fn set_uint(&mut self, name: &str, value: u32) -> PropertyAccessResult {
+        self.set_coordinate(name, f64::from(value))
+    }
+    fn set_float(&mut self, name: &str, value: f32) -> PropertyAccessResult {
+        self.set_coordinate(name, f64::from(value))
+    }
+    fn set_double(&mut self, name: &str, value: f64) -> PropertyAccessResult {
+        self.set_coordinate(name, value)
+    }
+    fn set_list_char(&mut self, name: &str, value: Vec<i8>) -> PropertyAccessResult {
+        self.set_indices(name, &value)
+    }
+    fn set_list_uchar(&mut self, name: &str, value: Vec<u8>) -> PropertyAccessResult {
+        self.set_indices(name, &value)
+    }
+    fn set_list_short(&mut self, name: &str, value: Vec<i16>) -> PropertyAccessResult {
+        self.set_indices(name, &value)
+    }
+    fn set_list_ushort(&mut self, name: &str, value: Vec<u16>) -> PropertyAccessResult {
+        self.set_indices(name, &value)
+    }
+    fn set_list_int(&mut self, name: &str, value: Vec<i32>) -> PropertyAccessResult {
+        self.set_indices(name, &value)
+    }
+    fn set_list_uint(&mut self, name: &str, value: Vec<u32>) -> PropertyAccessResult {
+        self.set_indices(name, &value)
+    }
+    fn set_list_float(&mut self, name: &str, _value: Vec<f32>) -> PropertyAccessResult {
+        if is_index_list(name) {
+            PropertyAccessResult::UnsupportedType
+        } else {
+            PropertyAccessResult::Ignored
+        }
+    }
+    fn set_list_double(&mut self, name: &str, _value: Vec<f64>) -> PropertyAccessResult {
+        self.set_list_float(name, Vec::new())
+    }
+}
+
+fn scalar_size(t: &ScalarType) -> u64 {
+    match t {
+        ScalarType::Char | ScalarType::UChar => 1,
+        ScalarType::Short | ScalarType::UShort => 2,
+        ScalarType::Int | ScalarType::UInt | ScalarType::Float => 4,
+        ScalarType::Double => 8,
+    }
+}
+
+fn is_integer(t: &ScalarType) -> bool {
+    !matches!(t, ScalarType::Float | ScalarType::Double)
+}
+
+/// The fewest bytes one element of `def` can take in `encoding`.
+fn min_element_bytes(def: &ElementDef, encoding: Encoding) -> u64 {
+    let n = match encoding {
+        Encoding::Ascii => 2 * def.properties.len() as u64,
+        Encoding::BinaryLittleEndian | Encoding::BinaryBigEndian => def
+            .properties
+            .values()
+            .map(|p| match &p.data_type {
+                PropertyType::Scalar(t) => scalar_size(t),
+                PropertyType::List(count, _) => scalar_size(count),
+            })
+            .sum(),
+    };
+    n.max(1)
+}
+
+fn parse_err(format: MeshFormat, e: &ply_rs_bw::parser::ParseError) -> LoadError {
+    LoadError::Parse {
+        format,
+        line: e.line(),
+        message: e.to_string(),
+    }
+}
+
+/// Reads PLY in any encoding.
+pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
+    let guess = encoding_hint(bytes);
+    if !(bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r")) {
+        return Err(LoadError::Parse {
+            format: guess,
+            line: Some(1),
+            message: "a PLY file starts with the line `ply`".to_owned(),
+        });
+    }
+    let parser = Parser::<Element>::new();
+    let mut reader = Reader::new(Cursor::new(bytes));
+    let header = parser
+        .read_header(&mut reader)
+        .map_err(|e| parse_err(guess, &e))?;
+    let format = format_of(header.encoding);
+    check_header(&header, format)?;
+
+    let payload_start = reader.get_ref().position();
+    let available = (bytes.len() as u64).saturating_sub(payload_start);
+    let mut need: u128 = 0;
+    for def in header.elements.values() {
+        need += def.count as u128 * u128::from(min_element_bytes(def, header.encoding));
+        // ASCII: the last line may lack its newline.
+        if need > u128::from(available) + 1 {
+            return Err(LoadError::ClaimedCountTooLarge {
+                format,
+                element: def.name.clone(),
+                claimed: def.count as u64,
+                available_bytes: available,
+            });
+        }
+    }
+
+    let mut positions: Vec<[f64; 3]> = Vec::new();
+    let mut sink = FaceSink::new(format, 0);
+    let mut have_vertices = false;
+    let mut ignored: Vec<(String, usize)> = Vec::new();
+    for def in header.elements.values() {
+        let elements = parser
+            .read_payload_for_element(&mut reader, def, &header)
+            .map_err(|e| parse_err(format, &e))?;
+        match def.name.as_str() {
+            "vertex" if !have_vertices => {
+                have_vertices = true;
+                if elements.len() > MAX_ELEMENTS {
+                    return Err(LoadError::TooManyElements {
+                        format,
+                        what: "vertices",
+                        limit: MAX_ELEMENTS as u64,
+                    });
+                }
+                positions = elements.iter().map(|e| e.xyz).collect();
+            }
+            "face" => {
+                for e in &elements {
+                    if let Some(v) = e.negative_index {
+                        return Err(LoadError::InvalidIndex {
+                            format,
+                            line: None,
+                            text: v.to_string(),
+                            reason: super::InvalidIndexReason::Negative,
+                        });
+                    }
+                    sink.push(&e.indices)?;
+                }
+            }
+            _ => ignored.push((def.name.clone(), elements.len())),
+        }
+    }
+    if !have_vertices {
+        return Err(LoadError::Parse {
+            format,
+            line: None,
+            message: "the header declares no `vertex` element".to_owned(),
+        });
+    }
+
+    let mut notes: Vec<LoadNote> = Vec::new();
+    notes.extend(sink.note());
+    for (name, count) in ignored {
+        notes.push(LoadNote::Ignored {
+            kind: format!("`{name}` elements"),
+            count,
+        });
+    }
+    let end = reader.get_ref().position();
+    if (bytes.len() as u64) > end && format != MeshFormat::PlyAscii {
+        notes.push(LoadNote::TrailingBytes {
+            bytes: bytes.len() as u64 - end,
+        });
+    }
+    let mesh = Mesh {
+        positions,
+        faces: sink.faces,
+    };
+    Ok((mesh, LoadReport { format, notes }))
+}
+
+/// The vertex element needs scalar `x`, `y`, `z`; the face element an
+/// integer list `vertex_indices` (or `vertex_index`).
+fn check_header(header: &Header, format: MeshFormat) -> Result<(), LoadError> {
+    let missing = |message: String| LoadError::Parse {
+        format,
+        line: None,
+        message,
+    };
+    if let Some(v) = header.elements.get("vertex") {
+        for name in ["x", "y", "z"] {
+            match v.properties.get(name).map(|p| &p.data_type) {
+                Some(PropertyType::Scalar(_)) => {}
+                Some(PropertyType::List(..)) => {
+                    return Err(missing(format!(
+                        "vertex property `{name}` is a list, not a number"
+                    )))
+                }
+                None => {
+                    return Err(missing(format!(
+                        "the vertex element has no property `{name}`"
+                    )))
+                }
+            }
+        }
+    }
+    if let Some(f) = header.elements.get("face") {
+        let list = f
+            .properties
+            .iter()
+            .find(|(name, _)| is_index_list(name))
+            .map(|(_, p)| &p.data_type);
+        match list {
+            Some(PropertyType::List(count, item)) if is_integer(count) && is_integer(item) => {}
+            Some(_) => {
+                return Err(missing(
+                    "the face index list must be a list of integers".to_owned(),
+                ))
+            }
+            None => {
+                return Err(missing(
+                    "the face element has no `vertex_indices` list".to_owned(),
+                ))
+            }
+        }
+    }
+    Ok(())
+}
+
+/// What the writer hands to `ply-rs-bw`: one vertex or one face.
+#[derive(Debug)]
+enum OutElement {
+    Vertex([f64; 3]),
+    Face([u32; 3]),
+}
+
+impl PropertyAccess for OutElement {
+    fn new() -> Self {
+        OutElement::Vertex([0.0; 3])
+    }
+    fn get_double(&self, name: &str) -> Option<f64> {
+        match self {
+            OutElement::Vertex(p) => coordinate_slot(name).map(|i| p[i]),
+            OutElement::Face(_) => None,
+        }
+    }
+    fn get_list_uint(&self, name: &str) -> Option<&[u32]> {
+        match self {
+            OutElement::Face(ids) if name == "vertex_indices" => Some(ids),
+            _ => None,
+        }
+    }
+}
+
+/// Writes PLY in the encoding `format` names: `double` coordinates,
+/// `list uchar uint vertex_indices`.
+pub(super) fn write<W: Write>(
+    mesh: &Mesh,
+    format: MeshFormat,
+    out: &mut W,
+) -> Result<(), SaveError> {
+    let encoding = match format {
+        MeshFormat::PlyAscii => Encoding::Ascii,
+        MeshFormat::PlyBinaryBigEndian => Encoding::BinaryBigEndian,
+        _ => Encoding::BinaryLittleEndian,
+    };
+    let mut header = Header::new();
+    header.encoding = encoding;
+    header.comments.push("written by wmslice".to_owned());
+    let mut vertex = ElementDef::new("vertex".to_owned());
+    vertex.count = mesh.positions.len();
+    for name in ["x", "y", "z"] {
+        vertex.properties.add(PropertyDef::new(
+            name.to_owned(),
+            PropertyType::Scalar(ScalarType::Double),
+        ));
+    }
+    let mut face = ElementDef::new("face".to_owned());
+    face.count = mesh.faces.len();
+    face.properties.add(PropertyDef::new(
+        "vertex_indices".to_owned(),
+        PropertyType::List(ScalarType::UChar, ScalarType::UInt),
+    ));
+    header.elements.add(vertex.clone());
+    header.elements.add(face.clone());
+
+    let writer = Writer::<OutElement>::new();
+    let io = |e: std::io::Error| write_err(e);
+    writer.write_header(out, &header).map_err(io)?;
+    let mut put = |e: &OutElement, def: &ElementDef| -> std::io::Result<usize> {
+        match encoding {
+            Encoding::Ascii => writer.write_ascii_element(out, e, def),
+            Encoding::BinaryLittleEndian => writer.write_little_endian_element(out, e, def),
+            Encoding::BinaryBigEndian => writer.write_big_endian_element(out, e, def),
+        }
+    };
+    for p in &mesh.positions {
+        put(&OutElement::Vertex(*p), &vertex).map_err(io)?;
+    }
+    for [a, b, c] in &mesh.faces {
+        put(&OutElement::Face([a.0, b.0, c.0]), &face).map_err(io)?;
+    }
+    Ok(())
+}

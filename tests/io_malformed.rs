@@ -1,0 +1,668 @@
+//! Input: hand-made files in every format, valid but unusual (binary STL
+//! starting with `solid`, OBJ relative indices and quads, big-endian PLY,
+//! 3MF transforms) or broken (truncated, lying counts, zip bombs, deep XML).
+//! Output: assertions on the mesh read, the notes, or the exact error variant.
+
+use std::io::Write;
+
+use wmslice::mesh::io::{load, load_bytes, InvalidIndexReason, LoadError, LoadNote, MeshFormat};
+use wmslice::mesh::Mesh;
+use wmslice::VertexId;
+
+fn ids(m: &Mesh) -> Vec<[u32; 3]> {
+    m.faces.iter().map(|t| t.map(|v| v.0)).collect()
+}
+
+// ---------------------------------------------------------------- STL
+
+/// A binary STL with the given 80-byte header start and triangles.
+fn binary_stl(header: &[u8], triangles: &[[[f32; 3]; 3]]) -> Vec<u8> {
+    let mut b = vec![0u8; 80];
+    b[..header.len()].copy_from_slice(header);
+    b.extend_from_slice(&(triangles.len() as u32).to_le_bytes());
+    for t in triangles {
+        b.extend_from_slice(&[0u8; 12]);
+        for p in t {
+            for c in p {
+                b.extend_from_slice(&c.to_le_bytes());
+            }
+        }
+        b.extend_from_slice(&[0, 0]);
+    }
+    b
+}
+
+const TWO_TRIANGLES: [[[f32; 3]; 3]; 2] = [
+    [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+    [[1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+];
+
+#[test]
+fn binary_stl_whose_header_starts_with_solid_is_read_as_binary() {
+    let bytes = binary_stl(b"solid exported by some CAD tool", &TWO_TRIANGLES);
+    for hint in [
+        None,
+        Some(MeshFormat::StlAscii),
+        Some(MeshFormat::StlBinary),
+    ] {
+        let (mesh, report) = load_bytes(&bytes, hint).unwrap();
+        assert_eq!(report.format, MeshFormat::StlBinary);
+        assert!(report.notes.contains(&LoadNote::BinaryStlHeaderSaysSolid));
+        assert_eq!(mesh.num_vertices(), 4);
+        assert_eq!(ids(&mesh), vec![[0, 1, 2], [1, 3, 2]]);
+    }
+}
+
+#[test]
+fn binary_stl_with_solid_header_and_trailing_bytes_falls_back_to_binary() {
+    let mut bytes = binary_stl(b"solid x", &TWO_TRIANGLES);
+    bytes.extend_from_slice(&[0xff, 0x00, 0x13]);
+    let (mesh, report) = load_bytes(&bytes, None).unwrap();
+    assert_eq!(report.format, MeshFormat::StlBinary);
+    assert!(report.notes.contains(&LoadNote::TrailingBytes { bytes: 3 }));
+    assert_eq!(mesh.num_faces(), 2);
+}
+
+#[test]
+fn truncated_binary_stl_is_truncated() {
+    let mut bytes = binary_stl(b"", &TWO_TRIANGLES);
+    bytes.truncate(bytes.len() - 7);
+    let err = load_bytes(&bytes, Some(MeshFormat::StlBinary)).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            LoadError::Truncated {
+                format: MeshFormat::StlBinary,
+                what: "bytes",
+                expected: 184,
+                got: 177
+            }
+        ),
+        "{err:?}"
+    );
+    let err = load_bytes(&bytes[..50], Some(MeshFormat::StlBinary)).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            LoadError::Truncated {
+                expected: 84,
+                got: 50,
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+}
+
+#[test]
+fn binary_stl_claiming_four_billion_triangles_fails_at_once() {
+    let mut bytes = vec![0u8; 1024];
+    bytes[80..84].copy_from_slice(&4_000_000_000u32.to_le_bytes());
+    let err = load_bytes(&bytes, Some(MeshFormat::StlBinary)).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            LoadError::ClaimedCountTooLarge {
+                format: MeshFormat::StlBinary,
+                claimed: 4_000_000_000,
+                available_bytes: 940,
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+}
+
+#[test]
+fn ascii_stl_parses_f64_text_exactly_and_fans_polygons() {
+    let text = b"solid t\n facet normal 0 0 1\n  outer loop\n   vertex 0.1 0 0\n   vertex 1 0 0\n   vertex 1 1 0\n   vertex 0 1 0\n  endloop\n endfacet\nendsolid t\n";
+    let (mesh, report) = load_bytes(text, None).unwrap();
+    assert_eq!(report.format, MeshFormat::StlAscii);
+    assert_eq!(mesh.positions[0], [0.1, 0.0, 0.0]);
+    assert_eq!(ids(&mesh), vec![[0, 1, 2], [0, 2, 3]]);
+    assert!(report.notes.contains(&LoadNote::Triangulated {
+        polygons: 1,
+        triangles: 2
+    }));
+}
+
+#[test]
+fn ascii_stl_syntax_error_names_the_line() {
+    let text = b"solid t\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 zero\n";
+    let err = load_bytes(text, None).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            LoadError::Parse {
+                format: MeshFormat::StlAscii,
+                line: Some(4),
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+}
+
+#[test]
+fn ascii_stl_facet_with_two_vertices_cannot_be_triangulated() {
+    let text = b"solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\nendfacet\nendsolid\n";
+    let err = load_bytes(text, None).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            LoadError::NonTriangleFace {
+                format: MeshFormat::StlAscii,
+                face: 0,
+                arity: 2
+            }
+        ),
+        "{err:?}"
+    );
+}
+
+// ---------------------------------------------------------------- OBJ
+
+#[test]
+fn obj_negative_indices_count_back_from_the_last_vertex() {
+    let text = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\nv 0 0 1\nf 1/1/1 -3//2 4\n";
+    let (mesh, report) = load_bytes(text, Some(MeshFormat::Obj)).unwrap();
+    assert_eq!(report.format, MeshFormat::Obj);
+    assert_eq!(ids(&mesh), vec![[0, 1, 2], [0, 1, 3]]);
+}
+
+#[test]
+fn obj_quad_is_triangulated_with_a_note() {
+    let text = b"o a\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\ng b\nf 1 2 3 4\nl 1 2\n";
+    let (mesh, report) = load_bytes(text, None).unwrap();
+    assert_eq!(ids(&mesh), vec![[0, 1, 2], [0, 2, 3]]);
+    assert!(report.notes.contains(&LoadNote::Triangulated {
+        polygons: 1,
+        triangles: 2
+    }));
+    assert!(report.notes.contains(&LoadNote::Ignored {
+        kind: "line and point elements".into(),
+        count: 1
+    }));
+}
+
+#[test]
+fn obj_out_of_range_index_loads_for_validation_to_report() {
+    let text = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n";
+    let (mesh, _) = load_bytes(text, Some(MeshFormat::Obj)).unwrap();
+    assert_eq!(mesh.faces[0][2], VertexId(8));
+}
+
+#[test]
+fn obj_invalid_indices_are_typed_errors() {
+    let cases: [(&[u8], InvalidIndexReason); 4] = [
+        (b"v 0 0 0\nf 1 0 1\n", InvalidIndexReason::Zero),
+        (
+            b"v 0 0 0\nf 1 -2 1\n",
+            InvalidIndexReason::BeforeFirstVertex,
+        ),
+        (b"v 0 0 0\nf 1 4294967297 1\n", InvalidIndexReason::TooLarge),
+        (b"v 0 0 0\nf 1 x 1\n", InvalidIndexReason::NotAnInteger),
+    ];
+    for (text, expected) in cases {
+        let err = load_bytes(text, Some(MeshFormat::Obj)).unwrap_err();
+        assert!(
+            matches!(err, LoadError::InvalidIndex { format: MeshFormat::Obj, line: Some(2), reason, .. } if reason == expected),
+            "{err:?}"
+        );
+    }
+}
+
+#[test]
+fn obj_face_with_two_vertices_is_refused() {
+    let err = load_bytes(b"v 0 0 0\nv 1 1 1\nf 1 2\n", Some(MeshFormat::Obj)).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            LoadError::NonTriangleFace {
+                format: MeshFormat::Obj,
+                face: 0,
+                arity: 2
+            }
+        ),
+        "{err:?}"
+    );
+}
+
+// ---------------------------------------------------------------- OFF
+
+#[test]
+fn off_with_colors_comments_and_polygons_loads() {
+    let text = b"COFF\n# a comment\n4 1 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n1 1 0 0 0 255 255\n0 1 0 9 9 9 255\n4 0 1 2 3 1 0 0\n";
+    let (mesh, report) = load_bytes(text, None).unwrap();
+    assert_eq!(report.format, MeshFormat::Off);
+    assert_eq!(mesh.positions[2], [1.0, 1.0, 0.0]);
+    assert_eq!(ids(&mesh), vec![[0, 1, 2], [0, 2, 3]]);
+}
+
+#[test]
+fn off_out_of_range_index_loads() {
+    let text = b"OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n";
+    let (mesh, _) = load_bytes(text, None).unwrap();
+    assert_eq!(mesh.faces[0][2], VertexId(7));
+}
+
+#[test]
+fn off_lying_count_fails_before_allocating() {
+    let text = b"OFF\n4000000000 1 0\n0 0 0\n";
+    let err = load_bytes(text, None).unwrap_err();
+    assert!(
+        matches!(err, LoadError::ClaimedCountTooLarge { format: MeshFormat::Off, claimed: 4_000_000_000, ref element, .. } if element == "vertex"),
+        "{err:?}"
+    );
+}
+
+#[test]
+fn off_missing_faces_is_truncated() {
+    let text = b"OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n                     \n";
+    let err = load_bytes(text, None).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            LoadError::Truncated {
+                format: MeshFormat::Off,
+                what: "faces",
+                expected: 2,
+                got: 1
+            }
+        ),
+        "{err:?}"
+    );
+}
+
+#[test]
+fn binary_off_is_unsupported() {
+    let err = load_bytes(b"OFF BINARY\n\0\0\0\x03", Some(MeshFormat::Off)).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            LoadError::Unsupported {
+                format: MeshFormat::Off,
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+}
+
+// ---------------------------------------------------------------- PLY
+
+fn ply_header(format: &str, vertex_props: &str, nv: usize, face_prop: &str, nf: usize) -> Vec<u8> {
+    format!(
+        "ply\nformat {format} 1.0\ncomment test\nelement vertex {nv}\n{vertex_props}element face {nf}\n{face_prop}\nend_header\n"
+    )
+    .into_bytes()
+}
+
+#[test]
+fn ply_big_endian_with_float_coordinates_and_int_indices() {
+    let mut b = ply_header(
+        "binary_big_endian",
+        "property float x\nproperty float y\nproperty float z\n",
+        3,
+        "property list uchar int vertex_indices",
+        1,
+    );
+    for p in [[0.5f32, 0.0, 0.0], [1.0, 0.1, 0.0], [0.0, 1.0, -0.0]] {
+        for c in p {
+            b.extend_from_slice(&c.to_be_bytes());
+        }
+    }
+    b.push(3);
+    for i in [0i32, 1, 2] {
+        b.extend_from_slice(&i.to_be_bytes());
+    }
+    let (mesh, report) = load_bytes(&b, None).unwrap();
+    assert_eq!(report.format, MeshFormat::PlyBinaryBigEndian);
+    assert_eq!(mesh.positions[1], [1.0, f64::from(0.1f32), 0.0]);
+    assert_eq!(ids(&mesh), vec![[0, 1, 2]]);
+}
+
+#[test]
+fn ply_little_endian_ushort_coordinates_and_vertex_index_name() {
+    let mut b = ply_header(
+        "binary_little_endian",
+        "property ushort x\nproperty short y\nproperty uchar z\nproperty uchar red\n",
+        3,
+        "property list uchar ushort vertex_index",
+        1,
+    );
+    for (x, y, z) in [(0u16, -1i16, 0u8), (7, 0, 1), (0, 5, 2)] {
+        b.extend_from_slice(&x.to_le_bytes());
+        b.extend_from_slice(&y.to_le_bytes());
+        b.push(z);
+        b.push(200);
+    }
+    b.push(3);
+    for i in [2u16, 1, 0] {
+        b.extend_from_slice(&i.to_le_bytes());
+    }
+    let (mesh, report) = load_bytes(&b, Some(MeshFormat::PlyAscii)).unwrap();
+    assert_eq!(report.format, MeshFormat::PlyBinaryLittleEndian);
+    assert_eq!(
+        mesh.positions,
+        vec![[0.0, -1.0, 0.0], [7.0, 0.0, 1.0], [0.0, 5.0, 2.0]]
+    );
+    assert_eq!(ids(&mesh), vec![[2, 1, 0]]);
+}
+
+#[test]
+fn ply_with_a_lying_element_count_fails_before_parsing() {
+    let mut b = ply_header(
+        "binary_little_endian",
+        "property double x\nproperty double y\nproperty double z\n",
+        1_000_000_000,
+        "property list uchar int vertex_indices",
+        1,
+    );
+    b.extend_from_slice(&[0u8; 100]);
+    let err = load_bytes(&b, None).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            LoadError::ClaimedCountTooLarge {
+                format: MeshFormat::PlyBinaryLittleEndian,
+                claimed: 1_000_000_000,
+                available_bytes: 100,
+                ref element,
+            } if element == "vertex"
+        ),
+        "{err:?}"
+    );
+}
+
+#[test]
+fn ply_ascii_polygon_and_out_of_range_index() {
+    let mut b = ply_header(
+        "ascii",
+        "property double x\nproperty double y\nproperty double z\n",
+        4,
+        "property list uchar uint vertex_indices",
+        2,
+    );
+    b.extend_from_slice(b"0 0 0\n1 0 0\n1 1 0\n0.1 1 -0\n4 0 1 2 3\n3 0 1 10\n");
+    let (mesh, report) = load_bytes(&b, None).unwrap();
+    assert_eq!(report.format, MeshFormat::PlyAscii);
+    assert_eq!(mesh.positions[3], [0.1, 1.0, 0.0]);
+    assert_eq!(ids(&mesh), vec![[0, 1, 2], [0, 2, 3], [0, 1, 10]]);
+}
+
+#[test]
+fn ply_negative_index_is_a_typed_error() {
+    let mut b = ply_header(
+        "ascii",
+        "property float x\nproperty float y\nproperty float z\n",
+        3,
+        "property list uchar int vertex_indices",
+        1,
+    );
+    b.extend_from_slice(b"0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n");
+    let err = load_bytes(&b, None).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            LoadError::InvalidIndex {
+                format: MeshFormat::PlyAscii,
+                reason: InvalidIndexReason::Negative,
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+}
+
+// ---------------------------------------------------------------- 3MF
+
+const NS: &str = "http://schemas.microsoft.com/3dmanufacturing/core/2015/02";
+
+/// A tetrahedron object with the given id and coordinate scale.
+fn tetra_object(id: u32, s: &str) -> String {
+    format!(
+        r#"<object id="{id}" type="model"><mesh><vertices>
+<vertex x="0" y="0" z="0"/><vertex x="{s}" y="0" z="0"/><vertex x="0" y="{s}" z="0"/><vertex x="0" y="0" z="{s}"/>
+</vertices><triangles>
+<triangle v1="0" v2="2" v3="1"/><triangle v1="0" v2="1" v3="3"/><triangle v1="1" v2="2" v3="3"/><triangle v1="2" v2="0" v3="3"/>
+</triangles></mesh></object>"#
+    )
+}
+
+fn model(resources: &str, build: &str) -> String {
+    format!(
+        r#"<?xml version="1.0" encoding="UTF-8"?>
+<model unit="millimeter" xmlns="{NS}"><resources>{resources}</resources><build>{build}</build></model>"#
+    )
+}
+
+fn zip_parts(parts: &[(&str, &[u8])]) -> Vec<u8> {
+    let mut zw = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
+    let options = zip::write::SimpleFileOptions::default()
+        .compression_method(zip::CompressionMethod::Deflated);
+    for (name, data) in parts {
+        zw.start_file(*name, options).unwrap();
+        zw.write_all(data).unwrap();
+    }
+    zw.finish().unwrap().into_inner()
+}
+
+fn three_mf(model_xml: &str) -> Vec<u8> {
+    zip_parts(&[("3D/3dmodel.model", model_xml.as_bytes())])
+}
+
+#[test]
+fn three_mf_item_transform_is_applied_exactly() {
+    let xml = model(
+        &tetra_object(1, "1.5"),
+        r#"<item objectid="1" transform="2 0 0 0 1 0 0 0 1 10 -0.25 0.5"/>"#,
+    );
+    let (mesh, report) = load_bytes(&three_mf(&xml), None).unwrap();
+    assert_eq!(report.format, MeshFormat::ThreeMf);
+    assert_eq!(
+        mesh.positions,
+        vec![
+            [10.0, -0.25, 0.5],
+            [13.0, -0.25, 0.5],
+            [10.0, 1.25, 0.5],
+            [10.0, -0.25, 2.0]
+        ]
+    );
+    assert_eq!(ids(&mesh)[0], [0, 2, 1]);
+    assert!(report
+        .notes
+        .contains(&LoadNote::TransformApplied { item: 0, object: 1 }));
+}
+
+#[test]
+fn three_mf_components_compose_and_instances_stay_separate() {
+    let resources = format!(
+        r#"{}<object id="2"><components><component objectid="1" transform="0 1 0 -1 0 0 0 0 1 0 0 5"/></components></object>"#,
+        tetra_object(1, "1")
+    );
+    let xml = model(
+        &resources,
+        r#"<item objectid="2" transform="1 0 0 0 1 0 0 0 1 100 0 0"/><item objectid="1"/>"#,
+    );
+    let rels = br#"<?xml version="1.0" encoding="UTF-8"?>
+<Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships"><Relationship Target="/3D/other.model" Id="r0" Type="http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel"/></Relationships>"#;
+    let bytes = zip_parts(&[("_rels/.rels", rels), ("3D/other.model", xml.as_bytes())]);
+    let (mesh, _) = load(&write_temp("c.3mf", &bytes)).unwrap();
+    assert_eq!(mesh.num_vertices(), 8);
+    assert_eq!(mesh.num_faces(), 8);
+    // (x, y, z) -> (-y, x, z + 5) -> (-y + 100, x, z + 5)
+    assert_eq!(mesh.positions[1], [100.0, 1.0, 5.0]);
+    assert_eq!(mesh.positions[2], [99.0, 0.0, 5.0]);
+    assert_eq!(mesh.positions[5], [1.0, 0.0, 0.0]);
+    assert_eq!(ids(&mesh)[4], [4, 6, 5]);
+}
+
+fn write_temp(name: &str, bytes: &[u8]) -> std::path::PathBuf {
+    let dir = tempfile::tempdir().unwrap().keep();
+    let path = dir.join(name);
+    std::fs::write(&path, bytes).unwrap();
+    path
+}
+
+#[test]
+fn three_mf_transform_that_would_round_is_refused() {
+    let xml = model(
+        &tetra_object(1, "0.1"),
+        r#"<item objectid="1" transform="3 0 0 0 1 0 0 0 1 0 0 0"/>"#,
+    );
+    let err = load_bytes(&three_mf(&xml), None).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            LoadError::InexactTransform {
+                item: 0,
+                object: 1,
+                vertex: 1
+            }
+        ),
+        "{err:?}"
+    );
+}
+
+#[test]
+fn three_mf_component_cycle_is_refused() {
+    let resources = r#"<object id="1"><components><component objectid="2"/></components></object><object id="2"><components><component objectid="1"/></components></object>"#;
+    let err = load_bytes(
+        &three_mf(&model(resources, r#"<item objectid="1"/>"#)),
+        None,
+    )
+    .unwrap_err();
+    assert!(
+        matches!(err, LoadError::ComponentCycle { object: 1 }),
+        "{err:?}"
+    );
+}
+
+#[test]
+fn three_mf_out_of_range_triangle_is_refused() {
+    let resources = r#"<object id="7"><mesh><vertices><vertex x="0" y="0" z="0"/></vertices><triangles><triangle v1="0" v2="0" v3="3"/></triangles></mesh></object>"#;
+    let err = load_bytes(
+        &three_mf(&model(resources, r#"<item objectid="7"/>"#)),
+        None,
+    )
+    .unwrap_err();
+    assert!(
+        matches!(
+            err,
+            LoadError::IndexOutOfRange {
+                format: MeshFormat::ThreeMf,
+                object: 7,
+                triangle: 0,
+                index: 3,
+                vertices: 1
+            }
+        ),
+        "{err:?}"
+    );
+}
+
+#[test]
+fn three_mf_highly_compressible_part_is_a_zip_bomb() {
+    let mut xml = model(&tetra_object(1, "1"), r#"<item objectid="1"/>"#);
+    xml.push_str(&" ".repeat(4 << 20));
+    let err = load_bytes(&three_mf(&xml), None).unwrap_err();
+    assert!(
+        matches!(err, LoadError::ZipBomb { ref name, ratio_limit: 200, .. } if name == "3D/3dmodel.model"),
+        "{err:?}"
+    );
+}
+
+/// Rewrites the uncompressed size of every zip entry (local and central
+/// headers), as a forged archive would.
+fn forge_uncompressed_size(mut zip: Vec<u8>, size: u32) -> Vec<u8> {
+    let mut i = 0;
+    while i + 4 <= zip.len() {
+        let sig = &zip[i..i + 4];
+        if sig == b"PK\x03\x04" {
+            zip[i + 22..i + 26].copy_from_slice(&size.to_le_bytes());
+        } else if sig == b"PK\x01\x02" {
+            zip[i + 24..i + 28].copy_from_slice(&size.to_le_bytes());
+        }
+        i += 1;
+    }
+    zip
+}
+
+#[test]
+fn three_mf_part_declaring_three_gigabytes_is_refused_before_inflating() {
+    let xml = model(&tetra_object(1, "1"), r#"<item objectid="1"/>"#);
+    let bytes = forge_uncompressed_size(three_mf(&xml), 3 << 30);
+    let err = load_bytes(&bytes, None).unwrap_err();
+    assert!(
+        matches!(err, LoadError::EntryTooLarge { declared, limit, .. } if declared == 3 << 30 && limit == 2 << 30),
+        "{err:?}"
+    );
+}
+
+#[test]
+fn three_mf_part_inflating_past_its_declared_size_is_stopped() {
+    let xml = model(&tetra_object(1, "1"), r#"<item objectid="1"/>"#);
+    let bytes = forge_uncompressed_size(three_mf(&xml), 40);
+    let err = load_bytes(&bytes, None).unwrap_err();
+    assert!(
+        matches!(err, LoadError::ZipBomb { inflated: 41, .. }),
+        "{err:?}"
+    );
+}
+
+#[test]
+fn three_mf_deeply_nested_xml_is_refused() {
+    let deep = format!("{}{}", "<a>".repeat(10_000), "</a>".repeat(10_000));
+    let xml = model(
+        &tetra_object(1, "1"),
+        &format!(r#"<item objectid="1"/>{deep}"#),
+    );
+    let err = load_bytes(&three_mf(&xml), None).unwrap_err();
+    assert!(
+        matches!(err, LoadError::XmlTooDeep { limit: 64, .. }),
+        "{err:?}"
+    );
+}
+
+#[test]
+fn three_mf_without_model_part_is_a_missing_entry() {
+    let bytes = zip_parts(&[("readme.txt", b"hello")]);
+    let err = load_bytes(&bytes, Some(MeshFormat::ThreeMf)).unwrap_err();
+    assert!(
+        matches!(err, LoadError::ZipEntryMissing { ref name } if name == "3D/3dmodel.model"),
+        "{err:?}"
+    );
+}
+
+#[test]
+fn three_mf_that_is_not_a_zip_is_a_broken_archive() {
+    let err = load_bytes(b"PK\x03\x04 not really", Some(MeshFormat::ThreeMf)).unwrap_err();
+    assert!(matches!(err, LoadError::ZipArchive { .. }), "{err:?}");
+}
+
+// ---------------------------------------------------------------- detection
+
+#[test]
+fn unknown_content_is_an_unknown_format() {
+    let err = load_bytes(b"\x00\x01\x02 hello", None).unwrap_err();
+    assert!(
+        matches!(err, LoadError::UnknownFormat { extension: None }),
+        "{err:?}"
+    );
+    let path = write_temp("mesh.xyz", b"\x00\x01\x02 hello");
+    let err = load(&path).unwrap_err();
+    assert!(
+        matches!(err, LoadError::UnknownFormat { extension: Some(ref e) } if e == "xyz"),
+        "{err:?}"
+    );
+}
+
+#[test]
+fn missing_file_is_an_io_error_with_its_path() {
+    let err = load(std::path::Path::new("/nonexistent/dir/m.stl")).unwrap_err();
+    assert!(
+        matches!(err, LoadError::Io { ref path, .. } if path.ends_with("m.stl")),
+        "{err:?}"
+    );
+}
