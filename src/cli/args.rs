@@ -16,13 +16,47 @@ pub struct Cli {
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Slice built-in datasets at their degenerate heights and explain them.
-    Demo,
+    Demo(DemoArgs),
     /// Write a built-in dataset, or list them.
     Gen(GenArgs),
     /// Validate a mesh: counts, genus, bounding box, exact volume, defects.
     Check(CheckArgs),
     /// Compute exact level sets.
     Slice(SliceArgs),
+    /// Re-check a result file exactly against its mesh.
+    Verify(VerifyArgs),
+}
+
+/// `wmslice demo`.
+#[derive(Args, Debug)]
+pub struct DemoArgs {
+    /// Where to write the HTML viewer of the demo levels.
+    #[arg(short, long, value_name = "FILE", default_value = "wmslice-demo.html")]
+    pub output: PathBuf,
+}
+
+/// `wmslice verify`.
+#[derive(Args, Debug)]
+pub struct VerifyArgs {
+    /// The mesh the result claims to slice (file or built-in dataset name).
+    pub mesh: String,
+    /// The result: a `wmslice-levelset` JSON written with `--exact`.
+    pub result: PathBuf,
+    /// Snap grid the result was computed with (must match its header).
+    #[arg(long, value_name = "Q")]
+    pub snap: Option<String>,
+}
+
+/// Which loops go to a Common Layer Interface file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum LoopSide {
+    /// L-: the material just below each plane (what a layer whose top is the
+    /// plane prints). The default.
+    Below,
+    /// L+: the material just above each plane.
+    Above,
+    /// S_O: the weak-Morse contour itself.
+    Contour,
 }
 
 /// `wmslice gen`.
@@ -59,6 +93,14 @@ pub enum Format {
     Summary,
     /// The `wmslice-levelset` JSON document (SPEC section 9).
     Json,
+    /// One SVG per level (a directory), or one file for a single level.
+    Svg,
+    /// One self-contained HTML viewer of every level.
+    Html,
+    /// Common Layer Interface, ASCII.
+    Cli,
+    /// Common Layer Interface, binary.
+    CliBinary,
 }
 
 /// `wmslice slice`.
@@ -90,4 +132,16 @@ pub struct SliceArgs {
     /// No progress output.
     #[arg(long)]
     pub quiet: bool,
+    /// Which loops go to CLI output.
+    #[arg(long, value_enum, default_value_t = LoopSide::Below)]
+    pub side: LoopSide,
+    /// Also write S_NO ridges and valleys as open polylines (CLI output).
+    #[arg(long)]
+    pub with_ridges: bool,
+    /// Draw direction arrows on contours (SVG and HTML).
+    #[arg(long)]
+    pub arrows: bool,
+    /// Write a certificate (hashes, versions, levels, counts, verdict).
+    #[arg(long, value_name = "FILE")]
+    pub certificate: Option<PathBuf>,
 }

@@ -6,10 +6,22 @@
 //! A panic (101) is a bug.
 
 mod args;
-mod commands;
+mod certificate;
+mod check;
+mod demo;
+mod gen;
+mod input;
+mod render;
+mod slice;
+mod verify;
 
+use anyhow::anyhow;
+use args::{Cli, Command};
 use clap::Parser;
 use std::fmt;
+use std::path::Path;
+use wmslice::output::atomic::write_atomic;
+use wmslice::SliceError;
 
 /// A failure with the exit code it maps to.
 #[derive(Debug)]
@@ -69,11 +81,75 @@ pub fn run() -> i32 {
             };
         }
     };
-    match commands::dispatch(cli) {
+    match dispatch(cli) {
         Ok(()) => 0,
         Err(f) => {
             eprintln!("error: {f}");
             f.code as i32
+        }
+    }
+}
+
+/// Runs one parsed command.
+fn dispatch(cli: Cli) -> Result<(), Failure> {
+    match cli.command {
+        Command::Demo(a) => demo::run(a),
+        Command::Gen(a) => gen::run(a),
+        Command::Check(a) => check::run(a),
+        Command::Slice(a) => slice::run(a),
+        Command::Verify(a) => verify::run(a),
+    }
+}
+
+/// Prints a line to stdout; a closed pipe (`wmslice ... | head`) ends the
+/// output quietly instead of panicking.
+#[macro_export]
+macro_rules! say {
+    ($($arg:tt)*) => {
+        $crate::cli::write_stdout(&format!($($arg)*))?
+    };
+}
+
+pub fn write_stdout(text: &str) -> Result<(), Failure> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match writeln!(out, "{text}") {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
+        r => r
+            .map_err(|e| anyhow!("cannot write to stdout: {e}"))
+            .tag(ExitCode::Output),
+    }
+}
+
+/// A bad-arguments failure.
+pub fn usage(msg: String) -> Failure {
+    Failure {
+        code: ExitCode::Usage,
+        error: anyhow!(msg),
+    }
+}
+
+/// The failure for a slicing error: an invalid mesh, or a bug.
+pub fn slice_error(e: SliceError) -> Failure {
+    let code = match e {
+        SliceError::InvalidMesh(_) => ExitCode::InvalidMesh,
+        _ => ExitCode::Internal,
+    };
+    Failure {
+        code,
+        error: e.into(),
+    }
+}
+
+/// Writes `text` to `out` atomically, or to stdout.
+pub fn emit(out: Option<&Path>, text: &str) -> Result<(), Failure> {
+    match out {
+        Some(p) => write_atomic(p, text.as_bytes())
+            .map_err(|e| anyhow!("cannot write {}: {e}", p.display()))
+            .tag(ExitCode::Output),
+        None => {
+            say!("{text}");
+            Ok(())
         }
     }
 }

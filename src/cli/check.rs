@@ -1,0 +1,51 @@
+//! `wmslice check`: validation report, text or JSON; exit 0 only for a
+//! mesh the slicer accepts.
+
+use super::args::CheckArgs;
+use super::input::load_input;
+use super::{ExitCode, Failure};
+use crate::say;
+use anyhow::anyhow;
+use wmslice::mesh::validate::validate;
+
+/// Runs `check`.
+pub fn run(a: CheckArgs) -> Result<(), Failure> {
+    let input = load_input(&a.mesh, a.snap.as_deref())?;
+    let report = validate(&input.mesh);
+    if a.json {
+        let doc = serde_json::json!({
+            "mesh": a.mesh,
+            "accepted": report.is_accepted(),
+            "stats": report.stats,
+            "defects": report.defects.iter().map(|d| {
+                let mut v = serde_json::to_value(d).unwrap_or_default();
+                if let Some(o) = v.as_object_mut() {
+                    o.insert("severity".into(), serde_json::to_value(d.severity()).unwrap_or_default());
+                    o.insert("message".into(), d.to_string().into());
+                }
+                v
+            }).collect::<Vec<_>>(),
+            "unlisted_defects": report.unlisted,
+            "notes": input.notes,
+        });
+        say!("{}", serde_json::to_string_pretty(&doc).unwrap_or_default());
+    } else {
+        for n in &input.notes {
+            say!("note: {n}");
+        }
+        say!("{report}");
+    }
+    if report.is_accepted() {
+        Ok(())
+    } else {
+        let first = report
+            .errors()
+            .next()
+            .map(|d| d.to_string())
+            .unwrap_or_default();
+        Err(Failure {
+            code: ExitCode::InvalidMesh,
+            error: anyhow!("{} is rejected for slicing: {first}", a.mesh),
+        })
+    }
+}
