@@ -1,16 +1,18 @@
 //! Input: closed loops of exact points that may touch at vertices but never
 //! cross. Output: each loop's role (outer or hole) and parent loop.
 //!
-//! Decided exactly: each loop's representative point is the midpoint of one
+//! Decided exactly (a floating-point filter first, exact rationals when it
+//! cannot decide): each loop's representative point is the midpoint of one
 //! of its segments that no other segment runs back along (so it lies on no
 //! other loop: loops share only vertices, or whole segments run both ways); containment is exact crossing parity. Candidates come from a
 //! uniform grid of rounded bounding boxes widened outward by one ulp, so the
 //! filter never drops a true container and the cost stays near-linear for
 //! many small loops side by side.
 
-use crate::exact::predicates::orient2d_rat;
+use crate::exact::filter::{cmp_y, orient2d_filtered, FilteredPoint};
 use crate::exact::rational::Rat;
 use crate::exact::{Point2, Sign};
+use std::cmp::Ordering;
 use std::collections::HashSet;
 
 /// Outer boundary or hole (SPEC section 9 `role`).
@@ -36,18 +38,18 @@ pub struct Nesting {
 
 /// Whether exact point `r` is strictly inside the closed polygon `poly`
 /// (crossing parity; `r` is never on `poly` where this is used).
-pub fn contains(poly: &[Point2], r: &Point2) -> bool {
+pub fn contains(poly: &[FilteredPoint<'_>], r: &FilteredPoint<'_>) -> bool {
     let n = poly.len();
     let mut inside = false;
     for i in 0..n {
         let p = &poly[i];
         let q = &poly[(i + 1) % n];
-        let p_above = p.y > r.y;
-        let q_above = q.y > r.y;
+        let p_above = cmp_y(p, r) == Ordering::Greater;
+        let q_above = cmp_y(q, r) == Ordering::Greater;
         if p_above == q_above {
             continue;
         }
-        let o = orient2d_rat(p, q, r);
+        let o = orient2d_filtered(p, q, r);
         let crosses_right = if q_above {
             o == Sign::Positive
         } else {
@@ -138,9 +140,14 @@ pub fn nest(loops: &[Vec<Point2>]) -> Vec<Nesting> {
             }
         }
     }
+    let filtered: Vec<Vec<FilteredPoint<'_>>> = loops
+        .iter()
+        .map(|l| l.iter().map(FilteredPoint::new).collect())
+        .collect();
     let mut containers: Vec<Vec<usize>> = vec![Vec::new(); n];
     for i in 0..n {
         let Some(r) = &reps[i] else { continue };
+        let rf = FilteredPoint::new(r);
         let f = r.to_f64();
         let cell = &grid[cell_of(f[1], 1) * cells + cell_of(f[0], 0)];
         for &j in cell {
@@ -154,7 +161,7 @@ pub fn nest(loops: &[Vec<Point2>]) -> Vec<Nesting> {
             if f[0] < b.lo[0] || f[0] > b.hi[0] || f[1] < b.lo[1] || f[1] > b.hi[1] {
                 continue;
             }
-            if contains(&loops[j], r) {
+            if contains(&filtered[j], &rf) {
                 containers[i].push(j);
             }
         }
