@@ -6,7 +6,7 @@
 //! face in its vertex order, its segment runs from where the walk passes
 //! from + to - to where it passes from - to +. No arithmetic is done here.
 
-use crate::classify::{EdgeClass, InPlaneEdge};
+use crate::classify::{EdgeClass, InPlaneEdge, Signs};
 use crate::exact::Sign;
 use crate::ids::{EdgeId, FaceId, VertexId};
 use crate::mesh::topology::Topology;
@@ -49,9 +49,9 @@ fn crossing_of(topo: &Topology, f: FaceId, i: usize) -> CutPoint {
 }
 
 /// The S_O segment of one face not in F, if its signs change strictly.
-pub fn face_segment(mesh: &Mesh, topo: &Topology, signs: &[Sign], f: FaceId) -> Option<Segment> {
+pub fn face_segment(mesh: &Mesh, topo: &Topology, signs: &Signs<'_>, f: FaceId) -> Option<Segment> {
     let tri = mesh.faces[f.idx()];
-    let s = tri.map(|v| signs[v.idx()]);
+    let s = tri.map(|v| signs.of(v));
     let has = |x: Sign| s.contains(&x);
     if !(has(Sign::Positive) && has(Sign::Negative)) {
         return None;
@@ -107,26 +107,4 @@ pub fn edge_segments(edges: &[InPlaneEdge]) -> impl Iterator<Item = Segment> + '
             via: Via::Edge(e.edge),
         })
     })
-}
-
-/// Which way a zero sign is perturbed for a one-sided limit (SPEC
-/// section 6, the project's one perturbation rule).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Side {
-    /// L-: the contour at `c - epsilon`; vertices on the plane count as above.
-    Below,
-    /// L+: the contour at `c + epsilon`; vertices on the plane count as below.
-    Above,
-}
-
-impl Side {
-    /// The perturbed sign of a vertex.
-    #[inline]
-    pub fn perturb(self, s: Sign) -> Sign {
-        match (s, self) {
-            (Sign::Zero, Side::Below) => Sign::Positive,
-            (Sign::Zero, Side::Above) => Sign::Negative,
-            (s, _) => s,
-        }
-    }
 }

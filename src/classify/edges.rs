@@ -4,6 +4,7 @@
 //! (SPEC section 3, edge table).
 
 use super::faces::{Facing, Region};
+use super::Signs;
 use crate::exact::Sign;
 use crate::ids::{EdgeId, FaceId, VertexId};
 use crate::mesh::topology::Topology;
@@ -57,7 +58,7 @@ pub struct InPlaneEdge {
 /// sign zero).
 pub fn classify_edges(
     topo: &Topology,
-    signs: &[Sign],
+    signs: &Signs<'_>,
     candidates: &[EdgeId],
     regions: &[Region],
     region_of: &HashMap<FaceId, u32>,
@@ -68,8 +69,8 @@ pub fn classify_edges(
         let [a, b] = edge.v;
         let r0 = region_of.get(&edge.faces[0]).copied();
         let r1 = region_of.get(&edge.faces[1]).copied();
-        let s0 = signs[edge.opposite[0].idx()];
-        let s1 = signs[edge.opposite[1].idx()];
+        let s0 = signs.of(edge.opposite[0]);
+        let s1 = signs.of(edge.opposite[1]);
         let class = match (r0, r1) {
             (Some(_), Some(_)) => EdgeClass::Interior,
             (Some(r), None) | (None, Some(r)) => {

@@ -2,6 +2,7 @@
 //! (faces with all three vertices in the plane, joined across in-plane
 //! edges), each with its facing, exact area and boundary half-edges dF.
 
+use super::Signs;
 use crate::exact::predicates::orient2d_xy;
 use crate::exact::rational::{rat_from_f64, Rat};
 use crate::exact::Sign;
@@ -70,16 +71,12 @@ fn twice_area_xy(mesh: &Mesh, f: FaceId) -> Rat {
 pub fn face_regions(
     mesh: &Mesh,
     topo: &Topology,
-    signs: &[Sign],
+    signs: &Signs<'_>,
     in_plane: &[FaceId],
     region_of: &mut std::collections::HashMap<FaceId, u32>,
 ) -> Vec<Region> {
     region_of.clear();
-    let is_in_plane = |f: FaceId| {
-        mesh.faces[f.idx()]
-            .iter()
-            .all(|v| signs[v.idx()] == Sign::Zero)
-    };
+    let is_in_plane = |f: FaceId| mesh.faces[f.idx()].iter().all(|&v| signs.is_zero(v));
     let mut regions = Vec::new();
     let mut sorted: Vec<FaceId> = in_plane.to_vec();
     sorted.sort_unstable();

@@ -1,6 +1,7 @@
 //! Input: vertex signs and fans. Output: the isolated extremal vertices P
 //! (all neighbours strictly above: minimum; all strictly below: maximum).
 
+use super::Signs;
 use crate::exact::Sign;
 use crate::ids::VertexId;
 use crate::mesh::topology::Topology;
@@ -26,10 +27,10 @@ pub struct Extremum {
 
 /// The extremum kind of an on-plane vertex, if any. Vertices with an empty
 /// fan (unused) are never extrema.
-pub fn extremum_kind(topo: &Topology, signs: &[Sign], v: VertexId) -> Option<ExtremumKind> {
+pub fn extremum_kind(topo: &Topology, signs: &Signs<'_>, v: VertexId) -> Option<ExtremumKind> {
     let fan = topo.fan(v);
-    let first = signs[fan.first()?.neighbour.idx()];
-    if first == Sign::Zero || fan.iter().any(|e| signs[e.neighbour.idx()] != first) {
+    let first = signs.of(fan.first()?.neighbour);
+    if first == Sign::Zero || fan.iter().any(|e| signs.of(e.neighbour) != first) {
         return None;
     }
     Some(match first {

@@ -11,8 +11,8 @@ pub mod ridges;
 
 use crate::chain::{chain_loops, ChainError};
 use crate::classify::{
-    edges::classify_edges, faces::face_regions, vertex_signs, vertices::extremum_kind, EdgeClass,
-    ExtremumKind, Facing, RidgeKind,
+    edges::classify_edges, faces::face_regions, vertices::extremum_kind, EdgeClass, ExtremumKind,
+    Facing, RidgeKind, Side, Signs,
 };
 use crate::exact::point::signed_area;
 use crate::exact::rational::Rat;
@@ -22,7 +22,7 @@ use crate::mesh::topology::Topology;
 use crate::mesh::validate::{validate, Report};
 use crate::mesh::Mesh;
 use crate::nest::{nest, Role};
-use crate::segment::{edge_segments, face_segment, CutPoint, Segment, Side, Via};
+use crate::segment::{edge_segments, face_segment, CutPoint, Segment, Via};
 use num_traits::{One, Signed, Zero};
 use std::collections::HashMap;
 
@@ -181,7 +181,24 @@ impl<'m> Slicer<'m> {
     /// The complete level set at the exact level `c` (in the mesh's units).
     pub fn slice_at(&self, c: &Rat) -> Result<LevelSet, SliceError> {
         let grid_level = Level::new(c / &self.unit);
-        let mut ls = LevelBuilder::new(self, &grid_level).build()?;
+        let active: Vec<FaceId> = (0..self.mesh.num_faces())
+            .map(FaceId::from_idx)
+            .filter(|&f| touches(self.mesh, f, &grid_level))
+            .collect();
+        self.slice_active(c, &grid_level, &active)
+    }
+
+    /// The level set at `c` (`level` is `c` in grid units) from the faces
+    /// that touch or cross the plane, ascending. Every element of the level
+    /// set belongs to such a face, so the result equals [`Slicer::slice_at`];
+    /// the layer sweep supplies `active` without scanning the mesh.
+    pub(crate) fn slice_active(
+        &self,
+        c: &Rat,
+        grid_level: &Level,
+        active: &[FaceId],
+    ) -> Result<LevelSet, SliceError> {
+        let mut ls = LevelBuilder::new(self, grid_level, active).build()?;
         if !self.unit.is_one() {
             let u = &self.unit;
             let u2 = u * u;
@@ -210,20 +227,28 @@ impl<'m> Slicer<'m> {
     }
 }
 
+/// Whether face `f` touches or crosses the plane (min <= c <= max), exactly.
+pub(crate) fn touches(mesh: &Mesh, f: FaceId, level: &Level) -> bool {
+    let s = mesh.faces[f.idx()].map(|v| level.sign_of(mesh.positions[v.idx()][2]));
+    s.contains(&Sign::Zero) || (s.contains(&Sign::Positive) && s.contains(&Sign::Negative))
+}
+
 struct LevelBuilder<'a> {
     mesh: &'a Mesh,
     topo: &'a Topology,
     level: &'a Level,
-    signs: Vec<Sign>,
+    signs: Signs<'a>,
+    active: &'a [FaceId],
 }
 
 impl<'a> LevelBuilder<'a> {
-    fn new(slicer: &'a Slicer<'a>, level: &'a Level) -> Self {
+    fn new(slicer: &'a Slicer<'a>, level: &'a Level, active: &'a [FaceId]) -> Self {
         LevelBuilder {
             mesh: slicer.mesh,
             topo: &slicer.topo,
             level,
-            signs: vertex_signs(slicer.mesh, level),
+            signs: Signs::new(slicer.mesh, level),
+            active,
         }
     }
 
@@ -247,28 +272,44 @@ impl<'a> LevelBuilder<'a> {
         let mesh = self.mesh;
         let topo = self.topo;
         let signs = &self.signs;
-        let zero = |v: VertexId| signs[v.idx()] == Sign::Zero;
+        let zero = |v: VertexId| signs.is_zero(v);
 
         // F: faces with three vertices on the plane.
-        let in_plane: Vec<FaceId> = (0..mesh.num_faces())
-            .map(FaceId::from_idx)
+        let in_plane: Vec<FaceId> = self
+            .active
+            .iter()
+            .copied()
             .filter(|&f| mesh.faces[f.idx()].iter().all(|&v| zero(v)))
             .collect();
         let mut region_of = HashMap::new();
         let regions = face_regions(mesh, topo, signs, &in_plane, &mut region_of);
 
         // In-plane edges, decided once each by the edge table.
-        let candidates: Vec<EdgeId> = (0..topo.num_edges())
-            .map(EdgeId::from_idx)
-            .filter(|&e| topo.edge(e).v.iter().all(|&v| zero(v)))
-            .collect();
+        let mut candidates: Vec<EdgeId> = Vec::new();
+        let mut on_plane: Vec<VertexId> = Vec::new();
+        for &f in self.active {
+            let tri = mesh.faces[f.idx()];
+            for c in 0..3 {
+                if zero(tri[c]) {
+                    on_plane.push(tri[c]);
+                    if zero(tri[(c + 1) % 3]) {
+                        candidates.push(topo.face_edges[f.idx()][c]);
+                    }
+                }
+            }
+        }
+        candidates.sort_unstable();
+        candidates.dedup();
+        on_plane.sort_unstable();
+        on_plane.dedup();
         let edges = classify_edges(topo, signs, &candidates, &regions, &region_of);
 
         // S_O: crossed faces, transversal edges and shared dF edges.
-        let mut segments: Vec<Segment> = (0..mesh.num_faces())
-            .map(FaceId::from_idx)
+        let mut segments: Vec<Segment> = self
+            .active
+            .iter()
             .filter(|f| !region_of.contains_key(f))
-            .filter_map(|f| face_segment(mesh, topo, signs, f))
+            .filter_map(|&f| face_segment(mesh, topo, signs, f))
             .collect();
         segments.extend(edge_segments(&edges));
         let contours = self.loops(&segments, |c| self.cut_point(c))?;
@@ -329,9 +370,9 @@ impl<'a> LevelBuilder<'a> {
             .collect();
 
         // P.
-        let extrema = (0..mesh.num_vertices())
-            .map(VertexId::from_idx)
-            .filter(|&v| zero(v))
+        let extrema = on_plane
+            .iter()
+            .copied()
             .filter_map(|v| {
                 extremum_kind(topo, signs, v).map(|kind| ExtremalPoint {
                     vertex: v,
@@ -366,13 +407,13 @@ impl<'a> LevelBuilder<'a> {
     /// material and are removed; what remains is chained by the vertex rule
     /// of section 5 and nested. Loops of zero exact area are dropped.
     fn one_sided(&self, side: Side) -> Result<Vec<Loop>, SliceError> {
-        let perturbed: Vec<Sign> = self.signs.iter().map(|&s| side.perturb(s)).collect();
+        let perturbed = self.signs.perturbed(side);
         let place = |c: CutPoint| match c {
             CutPoint::OnEdge(e) => {
                 let [a, b] = self.topo.edge(e).v;
-                if self.signs[a.idx()] == Sign::Zero {
+                if self.signs.is_zero(a) {
                     CutPoint::AtVertex(a)
-                } else if self.signs[b.idx()] == Sign::Zero {
+                } else if self.signs.is_zero(b) {
                     CutPoint::AtVertex(b)
                 } else {
                     c
@@ -380,9 +421,10 @@ impl<'a> LevelBuilder<'a> {
             }
             c => c,
         };
-        let placed: Vec<Segment> = (0..self.mesh.num_faces())
-            .map(FaceId::from_idx)
-            .filter_map(|f| face_segment(self.mesh, self.topo, &perturbed, f))
+        let placed: Vec<Segment> = self
+            .active
+            .iter()
+            .filter_map(|&f| face_segment(self.mesh, self.topo, &perturbed, f))
             .map(|s| Segment {
                 from: place(s.from),
                 to: place(s.to),
