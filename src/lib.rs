@@ -19,6 +19,7 @@ pub use mesh::Mesh;
 pub mod chain;
 pub mod classify;
 pub mod exact;
+pub mod layers;
 pub mod levelset;
 pub mod nest;
 pub mod segment;

@@ -180,12 +180,17 @@ impl<'m> Slicer<'m> {
 
     /// The complete level set at the exact level `c` (in the mesh's units).
     pub fn slice_at(&self, c: &Rat) -> Result<LevelSet, SliceError> {
-        let grid_level = Level::new(c / &self.unit);
+        let grid_level = self.grid_level(c);
         let active: Vec<FaceId> = (0..self.mesh.num_faces())
             .map(FaceId::from_idx)
             .filter(|&f| touches(self.mesh, f, &grid_level))
             .collect();
         self.slice_active(c, &grid_level, &active)
+    }
+
+    /// The level `c` in the stored (grid) units.
+    pub(crate) fn grid_level(&self, c: &Rat) -> Level {
+        Level::new(c / &self.unit)
     }
 
     /// The level set at `c` (`level` is `c` in grid units) from the faces

@@ -1,0 +1,139 @@
+//! Input: a layer height, optional first and last planes, explicit levels,
+//! and the mesh's height range. Output: the exact, ascending, distinct list
+//! of levels to slice.
+//!
+//! Uniform layers are `Z0 + k H` computed exactly (`0.2` is `1/5`), so layer
+//! 1000 is exactly where it should be: no drift. The default first plane is
+//! mid-layer, `z_min + H / 2` (as PrusaSlicer does); the default last plane
+//! is the highest `Z0 + k H` not above `z_max`.
+
+use crate::exact::rational::{rat_to_string, Rat};
+use num_traits::{Signed, ToPrimitive};
+
+/// The largest number of levels one plan may hold.
+pub const MAX_LEVELS: usize = 10_000_000;
+
+/// Uniform layers.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LayerPlan {
+    /// Layer height `H > 0`.
+    pub height: Rat,
+    /// First plane `Z0` (default `z_min + H / 2`).
+    pub first: Option<Rat>,
+    /// Last plane bound `Z1` (default `z_max`): planes `Z0 + k H <= Z1`.
+    pub last: Option<Rat>,
+}
+
+/// Why a plan is refused.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum PlanError {
+    /// The layer height is zero or negative.
+    #[error("layer height must be positive, got {0}")]
+    NonPositiveHeight(String),
+    /// Too many levels.
+    #[error("the plan has {0} levels, more than the limit of {MAX_LEVELS}")]
+    TooMany(String),
+    /// Nothing to slice.
+    #[error("no levels: give --at Z, --levels-file FILE or --layer-height H")]
+    Empty,
+}
+
+/// The levels of a plan: uniform layers (if any) merged with `explicit`,
+/// ascending and distinct. `z_range` is the mesh's exact height range.
+pub fn plan_levels(
+    uniform: Option<&LayerPlan>,
+    explicit: &[Rat],
+    z_range: (&Rat, &Rat),
+) -> Result<Vec<Rat>, PlanError> {
+    let mut levels: Vec<Rat> = explicit.to_vec();
+    if let Some(p) = uniform {
+        if !p.height.is_positive() {
+            return Err(PlanError::NonPositiveHeight(rat_to_string(&p.height)));
+        }
+        let two = Rat::from_integer(2.into());
+        let first = p
+            .first
+            .clone()
+            .unwrap_or_else(|| z_range.0 + &p.height / two);
+        let last = p.last.clone().unwrap_or_else(|| z_range.1.clone());
+        if first <= last {
+            let count = ((&last - &first) / &p.height).floor() + Rat::from_integer(1.into());
+            let n = count
+                .to_integer()
+                .to_usize()
+                .filter(|&n| n + levels.len() <= MAX_LEVELS)
+                .ok_or_else(|| PlanError::TooMany(count.to_integer().to_string()))?;
+            levels.reserve(n);
+            for k in 0..n {
+                levels.push(&first + &p.height * Rat::from_integer(k.into()));
+            }
+        }
+    }
+    levels.sort_unstable();
+    levels.dedup();
+    if levels.is_empty() {
+        return Err(PlanError::Empty);
+    }
+    Ok(levels)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::exact::parse_rational;
+
+    fn r(s: &str) -> Rat {
+        parse_rational(s).unwrap()
+    }
+
+    #[test]
+    fn uniform_layers_are_exact_and_mid_layer_by_default() {
+        let p = LayerPlan {
+            height: r("0.2"),
+            first: None,
+            last: None,
+        };
+        let v = plan_levels(Some(&p), &[], (&r("0"), &r("200"))).unwrap();
+        assert_eq!(v.len(), 1000);
+        assert_eq!(v[0], r("0.1"));
+        // No drift: layer 999 is exactly 0.1 + 999 * 0.2.
+        assert_eq!(v[999], r("199.9"));
+    }
+
+    #[test]
+    fn explicit_levels_merge_sorted_and_distinct() {
+        let p = LayerPlan {
+            height: r("1"),
+            first: Some(r("0")),
+            last: Some(r("2")),
+        };
+        let v = plan_levels(Some(&p), &[r("1"), r("1/2")], (&r("0"), &r("5"))).unwrap();
+        assert_eq!(v, vec![r("0"), r("1/2"), r("1"), r("2")]);
+    }
+
+    #[test]
+    fn bad_plans_are_typed_errors() {
+        let zero = LayerPlan {
+            height: r("0"),
+            first: None,
+            last: None,
+        };
+        assert!(matches!(
+            plan_levels(Some(&zero), &[], (&r("0"), &r("1"))),
+            Err(PlanError::NonPositiveHeight(_))
+        ));
+        let tiny = LayerPlan {
+            height: r("1e-9"),
+            first: None,
+            last: None,
+        };
+        assert!(matches!(
+            plan_levels(Some(&tiny), &[], (&r("0"), &r("1"))),
+            Err(PlanError::TooMany(_))
+        ));
+        assert_eq!(
+            plan_levels(None, &[], (&r("0"), &r("1"))),
+            Err(PlanError::Empty)
+        );
+    }
+}

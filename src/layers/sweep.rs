@@ -1,0 +1,166 @@
+//! Input: a slicer and ascending exact levels. Output: the level set of each
+//! level, handed to a sink in ascending order.
+//!
+//! The sweep (after Minetto, Volpato, Stolfi et al., "An optimal algorithm
+//! for 3D triangle mesh slicing", CAD 2017): faces sorted by their lowest
+//! height enter the active set when the plane reaches them and leave when
+//! it passes their highest one, so each level visits only the faces that
+//! touch it. Level `i` is computed by worker `i mod T`, each worker sweeping
+//! its own levels upward and sending results through a bounded channel;
+//! the caller's thread takes them in order. Memory is bounded by the
+//! channels, not by the number of levels, and every level is computed from
+//! the same sorted active faces, so the output does not depend on `T`.
+
+use crate::exact::rational::Rat;
+use crate::exact::{Level, Sign};
+use crate::ids::FaceId;
+use crate::levelset::{LevelSet, SliceError, Slicer};
+use std::sync::mpsc::{sync_channel, Receiver};
+
+/// Results each worker may compute ahead of the writer.
+const AHEAD: usize = 4;
+
+/// Why a sweep stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum SweepError<E: std::error::Error + 'static> {
+    /// Slicing one level failed.
+    #[error("level {index}: {source}")]
+    Slice {
+        /// The level's index in the plan.
+        index: usize,
+        /// The failure.
+        #[source]
+        source: SliceError,
+    },
+    /// The sink refused a level (e.g. an output error).
+    #[error(transparent)]
+    Sink(E),
+    /// The worker threads could not be started.
+    #[error("cannot start worker threads: {0}")]
+    Threads(String),
+}
+
+/// Faces ordered by lowest height, with each face's highest height.
+struct Heights {
+    by_min: Vec<(f64, FaceId)>,
+    max: Vec<f64>,
+}
+
+impl Heights {
+    fn new(slicer: &Slicer<'_>) -> Self {
+        let mesh = slicer.mesh();
+        let mut by_min = Vec::with_capacity(mesh.num_faces());
+        let mut max = Vec::with_capacity(mesh.num_faces());
+        for (f, tri) in mesh.faces.iter().enumerate() {
+            let z = tri.map(|v| mesh.positions[v.idx()][2]);
+            by_min.push((z[0].min(z[1]).min(z[2]), FaceId::from_idx(f)));
+            max.push(z[0].max(z[1]).max(z[2]));
+        }
+        by_min.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        Heights { by_min, max }
+    }
+}
+
+/// One worker's sweep state.
+struct Sweep<'h> {
+    heights: &'h Heights,
+    next: usize,
+    active: Vec<FaceId>,
+}
+
+impl<'h> Sweep<'h> {
+    /// Moves the plane up to `level` and returns the faces touching it,
+    /// ascending. Levels must come in ascending order.
+    fn advance(&mut self, level: &Level) -> Vec<FaceId> {
+        let by_min = &self.heights.by_min;
+        while self.next < by_min.len() && level.sign_of(by_min[self.next].0) != Sign::Positive {
+            self.active.push(by_min[self.next].1);
+            self.next += 1;
+        }
+        let max = &self.heights.max;
+        self.active
+            .retain(|f| level.sign_of(max[f.idx()]) != Sign::Negative);
+        let mut sorted = self.active.clone();
+        sorted.sort_unstable();
+        sorted
+    }
+
+    /// Advances to `c` and slices it.
+    fn slice(&mut self, slicer: &Slicer<'_>, c: &Rat) -> Result<LevelSet, SliceError> {
+        let grid = slicer.grid_level(c);
+        let active = self.advance(&grid);
+        slicer.slice_active(c, &grid, &active)
+    }
+}
+
+/// Slices every level (ascending, distinct) with `threads` workers and hands
+/// each level set, with its index, to `sink` in order.
+pub fn slice_levels<E, S>(
+    slicer: &Slicer<'_>,
+    levels: &[Rat],
+    threads: usize,
+    mut sink: S,
+) -> Result<(), SweepError<E>>
+where
+    E: std::error::Error + 'static,
+    S: FnMut(usize, LevelSet) -> Result<(), E>,
+{
+    let threads = threads.clamp(1, levels.len().max(1));
+    let heights = Heights::new(slicer);
+    let new_sweep = || Sweep {
+        heights: &heights,
+        next: 0,
+        active: Vec::new(),
+    };
+    let worker = |t: usize, tx: std::sync::mpsc::SyncSender<Result<LevelSet, SliceError>>| {
+        let mut sweep = new_sweep();
+        for c in levels.iter().skip(t).step_by(threads) {
+            let result = sweep.slice(slicer, c);
+            let failed = result.is_err();
+            if tx.send(result).is_err() || failed {
+                return;
+            }
+        }
+    };
+    if threads == 1 {
+        // The same sweep on the caller's thread.
+        let mut sweep = new_sweep();
+        for (index, c) in levels.iter().enumerate() {
+            let ls = sweep
+                .slice(slicer, c)
+                .map_err(|source| SweepError::Slice { index, source })?;
+            sink(index, ls).map_err(SweepError::Sink)?;
+        }
+        return Ok(());
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| SweepError::Threads(e.to_string()))?;
+    pool.in_place_scope(|scope| {
+        let mut receivers: Vec<Receiver<Result<LevelSet, SliceError>>> =
+            Vec::with_capacity(threads);
+        for t in 0..threads {
+            let (tx, rx) = sync_channel(AHEAD);
+            receivers.push(rx);
+            let worker = &worker;
+            scope.spawn(move |_| worker(t, tx));
+        }
+        let mut outcome = Ok(());
+        for index in 0..levels.len() {
+            let received = receivers[index % threads].recv();
+            let step = match received {
+                Ok(Ok(ls)) => sink(index, ls).map_err(SweepError::Sink),
+                Ok(Err(source)) => Err(SweepError::Slice { index, source }),
+                Err(_) => Err(SweepError::Threads("a worker stopped early".into())),
+            };
+            if let Err(e) = step {
+                outcome = Err(e);
+                break;
+            }
+        }
+        // Dropping the receivers unblocks any worker still sending.
+        drop(receivers);
+        outcome
+    })
+}

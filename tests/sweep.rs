@@ -1,0 +1,70 @@
+//! The layer sweep gives exactly the level sets of slicing each level
+//! alone, on every dataset and on random integer meshes, for any number of
+//! threads.
+
+mod common;
+
+use common::slab;
+use proptest::prelude::*;
+use std::convert::Infallible;
+use wmslice::datasets;
+use wmslice::exact::rational::Rat;
+use wmslice::layers::slice_levels;
+use wmslice::levelset::check::vertex_heights;
+use wmslice::{LevelSet, Mesh, Slicer};
+
+/// Every vertex height, the midpoints, and a quarter-step above each.
+fn levels_of(mesh: &Mesh) -> Vec<Rat> {
+    let zs = vertex_heights(mesh);
+    let mut v = zs.clone();
+    let four = Rat::from_integer(4.into());
+    for w in zs.windows(2) {
+        v.push((&w[0] + &w[1]) / Rat::from_integer(2.into()));
+        v.push(&w[0] + (&w[1] - &w[0]) / &four);
+    }
+    v.sort();
+    v
+}
+
+fn swept(slicer: &Slicer<'_>, levels: &[Rat], threads: usize) -> Vec<LevelSet> {
+    let mut out = Vec::new();
+    slice_levels::<Infallible, _>(slicer, levels, threads, |i, ls| {
+        assert_eq!(i, out.len(), "levels arrive in order");
+        out.push(ls);
+        Ok(())
+    })
+    .unwrap();
+    out
+}
+
+fn assert_sweep_equals_single(mesh: &Mesh, name: &str) {
+    let slicer = Slicer::new(mesh).unwrap();
+    let levels = levels_of(mesh);
+    let single: Vec<LevelSet> = levels.iter().map(|c| slicer.slice_at(c).unwrap()).collect();
+    for threads in [1, 2, 3] {
+        let s = swept(&slicer, &levels, threads);
+        assert_eq!(s.len(), single.len());
+        for (k, (a, b)) in s.iter().zip(&single).enumerate() {
+            assert!(
+                a == b,
+                "{name}: level {} differs with {threads} threads",
+                levels[k]
+            );
+        }
+    }
+}
+
+#[test]
+fn sweep_equals_single_levels_on_every_dataset() {
+    for d in datasets::all() {
+        assert_sweep_equals_single(&d.build(), d.name);
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 32, .. ProptestConfig::default() })]
+    #[test]
+    fn sweep_equals_single_levels_on_random_meshes(s in slab()) {
+        assert_sweep_equals_single(&s.mesh(), "slab");
+    }
+}
