@@ -112,3 +112,57 @@ fn snapping_makes_the_cad_plane_exact() {
         "{snapped}"
     );
 }
+
+#[test]
+fn output_bytes_are_identical_for_any_thread_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut outputs = Vec::new();
+    for threads in ["1", "2", "3"] {
+        let path = dir.path().join(format!("t{threads}.json"));
+        let p = path.to_str().unwrap();
+        let (code, _) = run(&[
+            "slice",
+            "double_torus",
+            "--layer-height",
+            "1/8",
+            "--first",
+            "0",
+            "--exact",
+            "--format",
+            "json",
+            "--threads",
+            threads,
+            "--quiet",
+            "-o",
+            p,
+        ]);
+        assert_eq!(code, 0);
+        outputs.push(std::fs::read(&path).unwrap());
+    }
+    assert!(outputs.iter().all(|o| o == &outputs[0]));
+    let v: serde_json::Value = serde_json::from_slice(&outputs[0]).unwrap();
+    // 0, 1/8, ..., up to the top of the double torus at z = 4: 33 planes.
+    assert_eq!(v["levels"].as_array().unwrap().len(), 33);
+    assert_eq!(v["levels"][16]["z"], "2");
+}
+
+#[test]
+fn uniform_layers_start_mid_layer_and_merge_with_explicit_levels() {
+    let (code, text) = run(&[
+        "slice",
+        "unit_cube",
+        "--layer-height",
+        "0.25",
+        "--at",
+        "1",
+        "--quiet",
+    ]);
+    assert_eq!(code, 0);
+    let zs: Vec<&str> = text
+        .lines()
+        .filter_map(|l| l.strip_prefix("level z = "))
+        .collect();
+    let zs: Vec<&str> = zs.iter().map(|l| l.split(' ').next().unwrap()).collect();
+    assert_eq!(zs, ["1/8", "3/8", "5/8", "7/8", "1"]);
+    assert_eq!(run(&["slice", "unit_cube", "--layer-height", "0"]).0, 2);
+}

@@ -114,6 +114,28 @@ pub struct SliceArgs {
     /// A file with one level per line (same syntax; # comments).
     #[arg(long, value_name = "FILE")]
     pub levels_file: Option<PathBuf>,
+    /// Uniform layers of height H (exact: 0.2 is 1/5).
+    #[arg(long, value_name = "H")]
+    pub layer_height: Option<String>,
+    /// First uniform plane (default: lowest vertex + H/2, mid-layer).
+    #[arg(
+        long,
+        value_name = "Z0",
+        allow_hyphen_values = true,
+        requires = "layer_height"
+    )]
+    pub first: Option<String>,
+    /// Upper bound of the uniform planes (default: highest vertex).
+    #[arg(
+        long,
+        value_name = "Z1",
+        allow_hyphen_values = true,
+        requires = "layer_height"
+    )]
+    pub last: Option<String>,
+    /// Worker threads (default: all cores); the output is identical for every N.
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
     /// Snap coordinates to the grid Q (decimal or p/q) before slicing.
     #[arg(long, value_name = "Q")]
     pub snap: Option<String>,

@@ -5,10 +5,15 @@ use super::args::{Format, SliceArgs};
 use super::input::{load_input, Input};
 use super::{emit, slice_error, usage, ExitCode, Failure, Tag};
 use anyhow::anyhow;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::{IsTerminal, Write};
 use wmslice::exact::parse_rational;
+use wmslice::exact::rational::rat_from_f64;
 use wmslice::exact::rational::{rat_to_f64, rat_to_string, Rat};
+use wmslice::layers::{plan_levels, slice_levels, LayerPlan, SweepError};
 use wmslice::naive::naive_slice;
-use wmslice::output::json::{to_json, Exactness, MeshHeader};
+use wmslice::output::atomic::AtomicFile;
+use wmslice::output::json::{to_json, Exactness, JsonWriter, MeshHeader};
 use wmslice::output::summary::summary;
 use wmslice::{LevelSet, Slicer};
 
@@ -31,56 +36,190 @@ pub fn parse_levels(a: &SliceArgs) -> Result<Vec<Rat>, Failure> {
             );
         }
     }
-    if levels.is_empty() {
-        return Err(usage("no levels: give --at Z or --levels-file FILE".into()));
-    }
     Ok(levels)
+}
+
+/// The uniform layer plan of the arguments, if any.
+fn parse_uniform(a: &SliceArgs) -> Result<Option<LayerPlan>, Failure> {
+    let exact = |flag: &str, v: &Option<String>| -> Result<Option<Rat>, Failure> {
+        v.as_deref()
+            .map(|t| parse_rational(t).map_err(|e| usage(format!("{flag} {t}: {e}"))))
+            .transpose()
+    };
+    Ok(match exact("--layer-height", &a.layer_height)? {
+        None => None,
+        Some(height) => Some(LayerPlan {
+            height,
+            first: exact("--first", &a.first)?,
+            last: exact("--last", &a.last)?,
+        }),
+    })
+}
+
+/// The exact height range of the mesh, in true units.
+fn z_range(input: &Input, unit: &Rat) -> (Rat, Rat) {
+    let zs = input.mesh.positions.iter().map(|p| p[2]);
+    let lo = zs.clone().fold(f64::INFINITY, f64::min);
+    let hi = zs.fold(f64::NEG_INFINITY, f64::max);
+    (rat_from_f64(lo) * unit, rat_from_f64(hi) * unit)
+}
+
+/// Where streamed output goes.
+enum Sink {
+    Stdout(std::io::BufWriter<std::io::Stdout>),
+    File(std::io::BufWriter<AtomicFile>),
+}
+
+impl Sink {
+    fn open(path: Option<&std::path::Path>) -> Result<Sink, Failure> {
+        Ok(match path {
+            None => Sink::Stdout(std::io::BufWriter::new(std::io::stdout())),
+            Some(p) => Sink::File(std::io::BufWriter::new(
+                AtomicFile::create(p)
+                    .map_err(|e| anyhow!("cannot write {}: {e}", p.display()))
+                    .tag(ExitCode::Output)?,
+            )),
+        })
+    }
+
+    /// Flushes, and renames the file into place.
+    fn close(self) -> std::io::Result<()> {
+        match self {
+            Sink::Stdout(mut w) => w.flush(),
+            Sink::File(w) => w.into_inner().map_err(|e| e.into_error())?.commit(),
+        }
+    }
+}
+
+impl Write for Sink {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        match self {
+            Sink::Stdout(w) => w.write(buf),
+            Sink::File(w) => w.write(buf),
+        }
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        match self {
+            Sink::Stdout(w) => w.flush(),
+            Sink::File(w) => w.flush(),
+        }
+    }
+}
+
+fn output_error(e: std::io::Error) -> Failure {
+    if e.kind() == std::io::ErrorKind::BrokenPipe {
+        // `wmslice ... | head`: the reader has what it wanted.
+        std::process::exit(0);
+    }
+    Failure {
+        code: ExitCode::Output,
+        error: anyhow!("cannot write the output: {e}"),
+    }
+}
+
+/// A progress bar on stderr for long runs; hidden when stderr is not a
+/// terminal or with `--quiet`.
+fn progress(len: usize, quiet: bool) -> ProgressBar {
+    if quiet || len < 2 || !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(len as u64);
+    if let Ok(style) =
+        ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} levels ({eta})")
+    {
+        bar.set_style(style);
+    }
+    bar
+}
+
+fn sweep_error(e: SweepError<std::io::Error>) -> Failure {
+    match e {
+        SweepError::Slice { source, .. } => slice_error(source),
+        SweepError::Sink(io) => output_error(io),
+        SweepError::Threads(_) => Failure {
+            code: ExitCode::Internal,
+            error: e.into(),
+        },
+    }
 }
 
 /// Runs `slice`.
 pub fn run(a: SliceArgs) -> Result<(), Failure> {
-    let levels = parse_levels(&a)?;
+    let explicit = parse_levels(&a)?;
+    let uniform = parse_uniform(&a)?;
     let input = load_input(&a.mesh, a.snap.as_deref())?;
     if !a.quiet {
         for n in &input.notes {
             eprintln!("note: {n}");
         }
     }
-    if a.naive {
-        return slice_naive(&a, &input, &levels);
-    }
     let unit = input
         .unit
         .clone()
         .unwrap_or_else(|| Rat::from_integer(1.into()));
-    let slicer = Slicer::with_unit(&input.mesh, unit).map_err(slice_error)?;
-    let sets: Vec<LevelSet> = levels
-        .iter()
-        .map(|c| slicer.slice_at(c))
-        .collect::<Result<_, _>>()
-        .map_err(slice_error)?;
-    if let Some(path) = &a.certificate {
-        super::certificate::write(path, &a, &input, &levels, &sets)?;
+    let (lo, hi) = z_range(&input, &unit);
+    let levels =
+        plan_levels(uniform.as_ref(), &explicit, (&lo, &hi)).map_err(|e| usage(e.to_string()))?;
+    if a.naive {
+        return slice_naive(&a, &input, &levels);
     }
+    let slicer = Slicer::with_unit(&input.mesh, unit).map_err(slice_error)?;
+    let threads = a
+        .threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let bar = progress(levels.len(), a.quiet);
+    let ex = if a.exact {
+        Exactness::WithExact
+    } else {
+        Exactness::Rounded
+    };
+    let header = MeshHeader::new(&input.mesh, input.unit.as_ref());
+    let streamed = matches!(a.format, Format::Json | Format::Summary) && a.certificate.is_none();
+    if streamed {
+        let sink = Sink::open(a.output.as_deref())?;
+        let sink = match a.format {
+            Format::Json => {
+                let mut w = JsonWriter::begin(sink, &header, ex).map_err(output_error)?;
+                slice_levels(&slicer, &levels, threads, |_, ls| {
+                    bar.inc(1);
+                    w.level(&ls)
+                })
+                .map_err(sweep_error)?;
+                w.finish().map_err(output_error)?
+            }
+            _ => {
+                let mut sink = sink;
+                slice_levels(&slicer, &levels, threads, |i, ls| {
+                    bar.inc(1);
+                    let sep = if i == 0 { "" } else { "\n" };
+                    write!(sink, "{sep}{}\n", summary(&ls))
+                })
+                .map_err(sweep_error)?;
+                sink
+            }
+        };
+        bar.finish_and_clear();
+        return sink.close().map_err(output_error);
+    }
+    let mut sets: Vec<LevelSet> = Vec::with_capacity(levels.len());
+    slice_levels(&slicer, &levels, threads, |_, ls| {
+        bar.inc(1);
+        sets.push(ls);
+        Ok::<(), std::io::Error>(())
+    })
+    .map_err(sweep_error)?;
+    bar.finish_and_clear();
     let text = match a.format {
         Format::Svg | Format::Html | Format::Cli | Format::CliBinary => {
             return super::render::write(&a, &input, &sets);
         }
-        Format::Json => {
-            let ex = if a.exact {
-                Exactness::WithExact
-            } else {
-                Exactness::Rounded
-            };
-            to_json(
-                &MeshHeader::new(&input.mesh, input.unit.as_ref()),
-                &sets,
-                ex,
-            )
-        }
-        Format::Summary => sets.iter().map(summary).collect::<Vec<_>>().join("\n"),
+        Format::Json => to_json(&header, &sets, ex),
+        Format::Summary => sets.iter().map(summary).collect::<Vec<_>>().join("\n") + "\n",
     };
-    emit(a.output.as_deref(), &text)
+    if let Some(path) = &a.certificate {
+        super::certificate::write(path, &a, &input, &levels, &sets, text.as_bytes())?;
+    }
+    emit(a.output.as_deref(), text.trim_end_matches('\n'))
 }
 
 fn slice_naive(a: &SliceArgs, input: &Input, levels: &[Rat]) -> Result<(), Failure> {

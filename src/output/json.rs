@@ -12,6 +12,7 @@ use crate::nest::Role;
 use crate::segment::CutPoint;
 use serde::Serialize;
 use sha2::{Digest, Sha256};
+use std::io::Write;
 
 /// Whether exact rationals are written beside the rounded values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -72,14 +73,6 @@ pub fn mesh_sha256(mesh: &Mesh) -> String {
 /// Lower-case hex of bytes.
 pub fn hex(bytes: &[u8]) -> String {
     bytes.iter().map(|b| format!("{b:02x}")).collect()
-}
-
-#[derive(Serialize)]
-struct Document<'a> {
-    format: &'static str,
-    version: u32,
-    mesh: &'a MeshHeader,
-    levels: Vec<JsonLevel>,
 }
 
 #[derive(Serialize)]
@@ -216,14 +209,49 @@ fn json_level(ls: &LevelSet, ex: Exactness) -> JsonLevel {
     }
 }
 
+/// Writes one `wmslice-levelset` document level by level, so memory does
+/// not grow with the number of levels. The bytes equal [`to_json`]'s.
+pub struct JsonWriter<W: Write> {
+    out: W,
+    ex: Exactness,
+    count: usize,
+}
+
+impl<W: Write> JsonWriter<W> {
+    /// Writes the header and opens the `levels` array.
+    pub fn begin(mut out: W, header: &MeshHeader, ex: Exactness) -> std::io::Result<Self> {
+        out.write_all(b"{\"format\":\"wmslice-levelset\",\"version\":1,\"mesh\":")?;
+        serde_json::to_writer(&mut out, header)?;
+        out.write_all(b",\"levels\":[\n")?;
+        Ok(JsonWriter { out, ex, count: 0 })
+    }
+
+    /// Writes one level.
+    pub fn level(&mut self, ls: &LevelSet) -> std::io::Result<()> {
+        if self.count > 0 {
+            self.out.write_all(b",\n")?;
+        }
+        serde_json::to_writer(&mut self.out, &json_level(ls, self.ex))?;
+        self.count += 1;
+        Ok(())
+    }
+
+    /// Closes the document and returns the writer.
+    pub fn finish(mut self) -> std::io::Result<W> {
+        self.out.write_all(b"\n]}\n")?;
+        Ok(self.out)
+    }
+}
+
 /// Serializes level sets as one `wmslice-levelset` document.
 pub fn to_json(header: &MeshHeader, levels: &[LevelSet], ex: Exactness) -> String {
-    let doc = Document {
-        format: "wmslice-levelset",
-        version: 1,
-        mesh: header,
-        levels: levels.iter().map(|l| json_level(l, ex)).collect(),
+    let write = || -> std::io::Result<Vec<u8>> {
+        let mut w = JsonWriter::begin(Vec::new(), header, ex)?;
+        for ls in levels {
+            w.level(ls)?;
+        }
+        w.finish()
     };
-    // Serializing plain data with string keys cannot fail.
-    serde_json::to_string_pretty(&doc).unwrap_or_default()
+    // Writing plain data with string keys into memory cannot fail.
+    String::from_utf8(write().unwrap_or_default()).unwrap_or_default()
 }

@@ -339,3 +339,34 @@ pub enum SaveError {
         limit: u64,
     },
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn is_send_sync<T: Send + Sync + 'static>() {}
+
+    #[test]
+    fn errors_cross_threads_and_box_into_anyhow() {
+        is_send_sync::<LoadError>();
+        is_send_sync::<SaveError>();
+        let e = LoadError::NonTriangleFace {
+            format: MeshFormat::Obj,
+            face: 3,
+            arity: 2,
+        };
+        assert_eq!(
+            e.to_string(),
+            "OBJ: face 3 has 2 vertices; a face needs at least 3"
+        );
+        let e = LoadError::Parse {
+            format: MeshFormat::StlAscii,
+            line: Some(7),
+            message: "expected `loop`".into(),
+        };
+        assert_eq!(
+            e.to_string(),
+            "ASCII STL: parse error (line 7): expected `loop`"
+        );
+    }
+}

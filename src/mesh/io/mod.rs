@@ -40,6 +40,10 @@ pub use error::{InvalidIndexReason, LoadError, SaveError};
 use super::Mesh;
 use crate::ids::{FaceId, VertexId};
 pub use crate::mesh::weld::MAX_ELEMENTS;
+pub use threemf::{
+    INSTANCE_ALLOWANCE, MAX_COMPONENT_DEPTH, MAX_INSTANCE_FACTOR, MAX_PART_BYTES, MAX_RATIO,
+    MAX_XML_DEPTH, RATIO_FREE_BYTES,
+};
 
 /// A mesh file format (with its encoding).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
