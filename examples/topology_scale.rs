@@ -1,11 +1,13 @@
-//! Measures topology build time and table size on large closed meshes:
-//! `cargo run --release --example topology_scale -- 1000` (grid side n,
-//! about 4 n^2 triangles).
+//! Measures topology build time, table size, validation and a layer sweep
+//! on large closed meshes: `cargo run --release --example topology_scale --
+//! 500 100` (grid side n, about 4 n^2 triangles; number of layers).
 
 use std::time::Instant;
+use wmslice::exact::rational::Rat;
+use wmslice::layers::slice_levels;
 use wmslice::mesh::topology::Topology;
 use wmslice::mesh::validate::validate;
-use wmslice::Mesh;
+use wmslice::{Mesh, Slicer};
 
 /// A closed slab over an n x n grid with a wavy integer top.
 fn slab(n: usize) -> Mesh {
@@ -69,5 +71,25 @@ fn main() {
         issues.len(),
         full.as_secs_f64(),
         report.is_accepted()
+    );
+    let layers: i64 = std::env::args()
+        .nth(2)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(100);
+    let slicer = Slicer::new(&mesh).expect("valid mesh");
+    // Planes from 0 to 15 (the wavy top spans 10..14), some at vertex heights.
+    let levels: Vec<Rat> = (1..=layers)
+        .map(|k| Rat::new((15 * k).into(), layers.into()))
+        .collect();
+    let t = Instant::now();
+    let mut points = 0usize;
+    slice_levels::<std::convert::Infallible, _>(&slicer, &levels, 1, |_, ls| {
+        points += ls.contours.iter().map(|l| l.points.len()).sum::<usize>();
+        Ok(())
+    })
+    .expect("slice");
+    println!(
+        "{layers} layers, one thread: {:.3} s, {points} contour points",
+        t.elapsed().as_secs_f64()
     );
 }

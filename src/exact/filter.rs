@@ -74,22 +74,39 @@ impl Interval {
     }
 }
 
+/// The bits of a point's rounded coordinates: equal for equal points (so a
+/// cheap hash key), possibly equal for distinct ones.
+pub type Key = (u64, u64);
+
 /// An exact point with interval enclosures of its coordinates, computed once.
 #[derive(Clone, Debug)]
 pub struct FilteredPoint<'a> {
     exact: &'a Point2,
     x: Interval,
     y: Interval,
+    key: Key,
 }
 
 impl<'a> FilteredPoint<'a> {
     /// Encloses an exact point.
     pub fn new(p: &'a Point2) -> Self {
+        let (x, y) = (rat_to_f64(&p.x), rat_to_f64(&p.y));
         FilteredPoint {
             exact: p,
-            x: Interval::around(rat_to_f64(&p.x)),
-            y: Interval::around(rat_to_f64(&p.y)),
+            x: Interval::around(x),
+            y: Interval::around(y),
+            key: ((x + 0.0).to_bits(), (y + 0.0).to_bits()),
         }
+    }
+
+    /// Doubles enclosing the exact point: `([x_lo, y_lo], [x_hi, y_hi])`.
+    pub fn bounds(&self) -> ([f64; 2], [f64; 2]) {
+        ([self.x.lo, self.y.lo], [self.x.hi, self.y.hi])
+    }
+
+    /// The rounded coordinates as a hash key.
+    pub fn key(&self) -> Key {
+        self.key
     }
 
     /// The exact point.

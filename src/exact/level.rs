@@ -7,6 +7,7 @@
 
 use super::rational::{rat_from_f64, rat_to_f64, rat_to_string, Rat};
 use super::Sign;
+use num_traits::ToPrimitive;
 use std::fmt;
 
 /// An exact level `c` with its bracketing doubles `lo <= c <= hi`
@@ -16,6 +17,7 @@ pub struct Level {
     value: Rat,
     lo: f64,
     hi: f64,
+    small: Option<(i128, i128)>,
 }
 
 impl Level {
@@ -35,7 +37,24 @@ impl Level {
                 std::cmp::Ordering::Greater => (f.next_down(), f),
             }
         };
-        Level { value, lo, hi }
+        let small = value
+            .numer()
+            .to_i128()
+            .zip(value.denom().to_i128())
+            .filter(|(p, q)| p.unsigned_abs() < 1 << 62 && *q < 1 << 62);
+        Level {
+            value,
+            lo,
+            hi,
+            small,
+        }
+    }
+
+    /// `c = p / q` with `|p|, q < 2^62`, when it is that small (the integer
+    /// fast paths use it).
+    #[inline]
+    pub fn small(&self) -> Option<(i128, i128)> {
+        self.small
     }
 
     /// The exact value.

@@ -3,6 +3,8 @@
 
 use super::level::Level;
 use super::rational::{rat_from_f64, rat_to_f64, Rat};
+use super::volume::decompose;
+use num_bigint::BigInt;
 use num_traits::Zero;
 
 /// A point of the plane `z = c` with exact rational coordinates.
@@ -26,7 +28,18 @@ impl Point2 {
     /// The exact crossing of edge `(a, b)` with the plane `z = c`:
     /// `p = (a (h(b) - c) + b (c - h(a))) / (h(b) - h(a))`.
     /// The caller guarantees `h(a) != h(b)`.
+    ///
+    /// Fast path: when the six coordinates share a binary exponent with
+    /// small integer mantissas and the level is a small fraction, the
+    /// point is computed in `i128` (overflow-checked) and reduced with an
+    /// integer gcd; otherwise, or on overflow, with big rationals. Both give
+    /// the same reduced rational (property-tested).
     pub fn on_edge(a: [f64; 3], b: [f64; 3], level: &Level) -> Self {
+        on_edge_i128(a, b, level).unwrap_or_else(|| Self::on_edge_reference(a, b, level))
+    }
+
+    /// The crossing with big rationals only: the reference for the fast path.
+    pub fn on_edge_reference(a: [f64; 3], b: [f64; 3], level: &Level) -> Self {
         let za = rat_from_f64(a[2]);
         let zb = rat_from_f64(b[2]);
         let t = (level.value() - &za) / (&zb - &za);
@@ -55,6 +68,89 @@ impl Point2 {
     }
 }
 
+/// `a = k * 2^e0` for the common exponent `e0` of a set of doubles, when
+/// every `|k| < 2^40`.
+fn common_ints<const N: usize>(xs: [f64; N]) -> Option<([i128; N], i32)> {
+    let parts = xs.map(decompose);
+    let e0 = parts.iter().flatten().map(|&(_, e)| e).min().unwrap_or(0);
+    let mut out = [0i128; N];
+    for (o, p) in out.iter_mut().zip(parts) {
+        if let Some((m, e)) = p {
+            let k = shl_exact(i128::from(m), e - e0)?;
+            if k.unsigned_abs() >= 1 << 40 {
+                return None;
+            }
+            *o = k;
+        } else if xs.iter().any(|x| !x.is_finite()) {
+            return None;
+        }
+    }
+    Some((out, e0))
+}
+
+fn gcd_u128(mut a: u128, mut b: u128) -> u128 {
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    a
+}
+
+/// `v * 2^s`, or `None` if any bit would be lost.
+fn shl_exact(v: i128, s: i32) -> Option<i128> {
+    let s = u32::try_from(s).ok().filter(|&s| s < 126)?;
+    (v.unsigned_abs() >> (126 - s) == 0).then(|| v << s)
+}
+
+/// `num * 2^e / den` as a reduced rational (`den > 0`).
+fn reduced(num: i128, den: i128, e: i32) -> Rat {
+    if num == 0 {
+        return Rat::zero();
+    }
+    let g = gcd_u128(num.unsigned_abs(), den.unsigned_abs()).max(1) as i128;
+    let (mut n, mut d) = (BigInt::from(num / g), BigInt::from(den / g));
+    if e >= 0 {
+        // Cancel powers of two between 2^e and the denominator.
+        let tz = d.trailing_zeros().unwrap_or(0).min(e as u64);
+        d >>= tz;
+        n <<= e as u64 - tz;
+    } else {
+        let tz = n.trailing_zeros().unwrap_or(0).min((-e) as u64);
+        n >>= tz;
+        d <<= (-e) as u64 - tz;
+    }
+    Rat::new_raw(n, d)
+}
+
+fn on_edge_i128(a: [f64; 3], b: [f64; 3], level: &Level) -> Option<Point2> {
+    let (p, q) = level.small()?;
+    let ([ax, ay, az, bx, by, bz], e0) = common_ints([a[0], a[1], a[2], b[0], b[1], b[2]])?;
+    // In units of 2^e0 the level is p / (q 2^e0).
+    let (p, q) = if e0 >= 0 {
+        (p, shl_exact(q, e0)?)
+    } else {
+        (shl_exact(p, -e0)?, q)
+    };
+    if p.unsigned_abs() >= 1 << 80 || q >= 1 << 80 {
+        return None;
+    }
+    // x = (ax q dz + (bx - ax)(p - q az)) / (q dz), dz = bz - az.
+    let dz = bz - az;
+    let w = q.checked_mul(dz)?;
+    let s = p.checked_sub(q.checked_mul(az)?)?;
+    let coord = |u: i128, v: i128| -> Option<i128> {
+        u.checked_mul(w)?.checked_add((v - u).checked_mul(s)?)
+    };
+    let (x, y) = (coord(ax, bx)?, coord(ay, by)?);
+    let (x, y, w) = if w < 0 { (-x, -y, -w) } else { (x, y, w) };
+    if w == 0 {
+        return None;
+    }
+    Some(Point2 {
+        x: reduced(x, w, e0),
+        y: reduced(y, w, e0),
+    })
+}
+
 /// Exact signed area of a closed polygon (shoelace): positive when
 /// counter-clockwise.
 pub fn signed_area(points: &[Point2]) -> Rat {
@@ -79,6 +175,59 @@ mod tests {
         let p = Point2::on_edge([0.0, 0.0, 0.0], [1.0, 3.0, 1.0], &c);
         assert_eq!(p.x, parse_rational("3/5").unwrap());
         assert_eq!(p.y, parse_rational("9/5").unwrap());
+    }
+
+    proptest::proptest! {
+        /// The i128 fast path equals the big-rational reference: integer,
+        /// dyadic and arbitrary double coordinates, levels strictly between
+        /// the ends (exact fractions of the span, and decimals).
+        #[test]
+        fn fast_crossing_equals_the_reference(
+            a in proptest::array::uniform3(-1000i32..1000), b in proptest::array::uniform3(-1000i32..1000),
+            scale in -30i32..10, odd in proptest::bool::ANY, t in 1i64..1000, den in 1i64..1001
+        ) {
+            let f = |v: [i32; 3]| {
+                let s = if odd { 0.1 } else { 2f64.powi(scale) };
+                v.map(|x| f64::from(x) * s)
+            };
+            let (a, b) = (f(a), f(b));
+            proptest::prop_assume!(a[2] != b[2]);
+            let za = rat_from_f64(a[2]);
+            let zb = rat_from_f64(b[2]);
+            let frac = Rat::new(t.into(), (den + t).into());
+            let level = Level::new(&za + (zb - &za) * frac);
+            proptest::prop_assert_eq!(Point2::on_edge(a, b, &level), Point2::on_edge_reference(a, b, &level));
+            if let Some(p) = on_edge_i128(a, b, &level) {
+                proptest::prop_assert_eq!(p, Point2::on_edge_reference(a, b, &level));
+            }
+        }
+    }
+
+    #[test]
+    fn shifts_never_lose_bits() {
+        assert_eq!(shl_exact(3, 4), Some(48));
+        assert_eq!(shl_exact(-1, 125), Some(-1 << 125));
+        assert_eq!(shl_exact(2, 125), None);
+        assert_eq!(shl_exact(1, -1), None);
+        // A zero coordinate is canonical 0/1 even with a negative exponent.
+        assert_eq!(reduced(0, 8, -3), Rat::zero());
+        assert_eq!(reduced(6, 4, -1), Rat::new(3.into(), 4.into()));
+        assert_eq!(reduced(3, 4, 3), Rat::from_integer(6.into()));
+    }
+
+    #[test]
+    fn fast_path_is_taken_on_integer_meshes() {
+        let c = Level::new(parse_rational("1/3").unwrap());
+        let p = on_edge_i128([0.0, 0.0, 0.0], [3.0, 6.0, 1.0], &c).unwrap();
+        assert_eq!(p.x, parse_rational("1").unwrap());
+        assert_eq!(p.y, parse_rational("2").unwrap());
+        // Dyadic coordinates and a decimal level.
+        let c = Level::new(parse_rational("0.3").unwrap());
+        let p = on_edge_i128([0.5, 0.25, 0.25], [1.5, -0.75, 0.75], &c).unwrap();
+        assert_eq!(
+            p,
+            Point2::on_edge_reference([0.5, 0.25, 0.25], [1.5, -0.75, 0.75], &c)
+        );
     }
 
     #[test]

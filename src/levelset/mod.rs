@@ -387,8 +387,13 @@ impl<'a> LevelBuilder<'a> {
             })
             .collect();
 
-        let below = self.one_sided(Side::Below)?;
-        let above = self.one_sided(Side::Above)?;
+        // With no vertex on the plane, perturbing zero signs changes
+        // nothing: L- and L+ are S_O, segment for segment.
+        let (below, above) = if on_plane.is_empty() {
+            (contours.clone(), contours.clone())
+        } else {
+            (self.one_sided(Side::Below)?, self.one_sided(Side::Above)?)
+        };
 
         let ls = LevelSet {
             level: self.level.value().clone(),

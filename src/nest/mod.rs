@@ -9,7 +9,7 @@
 //! filter never drops a true container and the cost stays near-linear for
 //! many small loops side by side.
 
-use crate::exact::filter::{cmp_y, orient2d_filtered, FilteredPoint};
+use crate::exact::filter::{cmp_y, orient2d_filtered, FilteredPoint, Key};
 use crate::exact::rational::Rat;
 use crate::exact::{Point2, Sign};
 use std::cmp::Ordering;
@@ -64,20 +64,29 @@ pub fn contains(poly: &[FilteredPoint<'_>], r: &FilteredPoint<'_>) -> bool {
 
 /// The midpoint of the first segment of `poly` that has non-zero length and
 /// whose reverse is not in the family (one-sided limits may run both ways
-/// along an edge: a crack or spike of zero width). That midpoint lies on no
-/// other loop.
-fn representative(poly: &[Point2], reversed: &HashSet<(&Point2, &Point2)>) -> Option<Point2> {
+/// along an edge: a crack or spike of zero width); that midpoint lies on no
+/// other loop. Reverses are looked up by the rounded coordinates, which can
+/// only skip more segments than needed, never fewer; if every segment is
+/// skipped, the first one of non-zero length is used.
+fn representative(poly: &[FilteredPoint<'_>], reversed: &HashSet<(Key, Key)>) -> Option<Point2> {
     let n = poly.len();
-    (0..n).find_map(|i| {
-        let p = &poly[i];
-        let q = &poly[(i + 1) % n];
-        (p != q && !reversed.contains(&(q, p))).then(|| {
-            let half = Rat::new(1.into(), 2.into());
-            Point2 {
-                x: (&p.x + &q.x) * &half,
-                y: (&p.y + &q.y) * &half,
-            }
-        })
+    let segment = |i: usize| {
+        (
+            poly[i].exact(),
+            poly[(i + 1) % n].exact(),
+            poly[i].key(),
+            poly[(i + 1) % n].key(),
+        )
+    };
+    let pick = (0..n)
+        .map(segment)
+        .find(|&(p, q, kp, kq)| p != q && !reversed.contains(&(kq, kp)))
+        .or_else(|| (0..n).map(segment).find(|&(p, q, _, _)| p != q))?;
+    let (p, q, _, _) = pick;
+    let half = Rat::new(1.into(), 2.into());
+    Some(Point2 {
+        x: (&p.x + &q.x) * &half,
+        y: (&p.y + &q.y) * &half,
     })
 }
 
@@ -87,16 +96,16 @@ struct Bbox {
     hi: [f64; 2],
 }
 
-fn bbox(poly: &[Point2]) -> Bbox {
+fn bbox(poly: &[FilteredPoint<'_>]) -> Bbox {
     let mut b = Bbox {
         lo: [f64::INFINITY; 2],
         hi: [f64::NEG_INFINITY; 2],
     };
     for p in poly {
-        // Rounded to nearest: the exact value is within one ulp.
-        for (k, x) in p.to_f64().into_iter().enumerate() {
-            b.lo[k] = b.lo[k].min(x.next_down());
-            b.hi[k] = b.hi[k].max(x.next_up());
+        let (lo, hi) = p.bounds();
+        for k in 0..2 {
+            b.lo[k] = b.lo[k].min(lo[k]);
+            b.hi[k] = b.hi[k].max(hi[k]);
         }
     }
     b
@@ -108,14 +117,21 @@ pub fn nest(loops: &[Vec<Point2>]) -> Vec<Nesting> {
     if n == 0 {
         return Vec::new();
     }
-    let boxes: Vec<Bbox> = loops.iter().map(|l| bbox(l)).collect();
-    let mut segments: HashSet<(&Point2, &Point2)> = HashSet::new();
-    for l in loops {
+    let filtered: Vec<Vec<FilteredPoint<'_>>> = loops
+        .iter()
+        .map(|l| l.iter().map(FilteredPoint::new).collect())
+        .collect();
+    let mut segments: HashSet<(Key, Key)> = HashSet::new();
+    for l in &filtered {
         for i in 0..l.len() {
-            segments.insert((&l[i], &l[(i + 1) % l.len()]));
+            segments.insert((l[i].key(), l[(i + 1) % l.len()].key()));
         }
     }
-    let reps: Vec<Option<Point2>> = loops.iter().map(|l| representative(l, &segments)).collect();
+    let reps: Vec<Option<Point2>> = filtered
+        .iter()
+        .map(|l| representative(l, &segments))
+        .collect();
+    let boxes: Vec<Bbox> = filtered.iter().map(|l| bbox(l)).collect();
     let mut lo = [f64::INFINITY; 2];
     let mut hi = [f64::NEG_INFINITY; 2];
     for b in &boxes {
@@ -140,10 +156,6 @@ pub fn nest(loops: &[Vec<Point2>]) -> Vec<Nesting> {
             }
         }
     }
-    let filtered: Vec<Vec<FilteredPoint<'_>>> = loops
-        .iter()
-        .map(|l| l.iter().map(FilteredPoint::new).collect())
-        .collect();
     let mut containers: Vec<Vec<usize>> = vec![Vec::new(); n];
     for i in 0..n {
         let Some(r) = &reps[i] else { continue };
