@@ -16,6 +16,11 @@ if [ "${WMSLICE_NO_ORACLE:-0}" != 1 ]; then
   fi
   features=(--features cgal-oracle)
 fi
+# The browser test drives Debian's headless Chromium (set WMSLICE_NO_BROWSER=1
+# to skip installing it; the test then skips unless CI is set).
+if [ "${WMSLICE_NO_BROWSER:-0}" != 1 ] && ! command -v chromium >/dev/null 2>&1; then
+  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null
+fi
 cargo test --all-targets --no-fail-fast "${features[@]}" "$@" 2>&1 | tee -a "$log" || status=1
 cargo test --doc --no-fail-fast "$@" 2>&1 | tee -a "$log" || status=1
 passed=$(awk '/^test result:/ { for (i = 1; i < NF; i++) if ($(i+1) ~ /^passed/) s += $i } END { print s + 0 }' "$log")

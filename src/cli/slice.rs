@@ -192,7 +192,7 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
                 slice_levels(&slicer, &levels, threads, |i, ls| {
                     bar.inc(1);
                     let sep = if i == 0 { "" } else { "\n" };
-                    write!(sink, "{sep}{}\n", summary(&ls))
+                    writeln!(sink, "{sep}{}", summary(&ls))
                 })
                 .map_err(sweep_error)?;
                 sink
@@ -211,6 +211,12 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
     bar.finish_and_clear();
     let text = match a.format {
         Format::Svg | Format::Html | Format::Cli | Format::CliBinary => {
+            if a.certificate.is_some() {
+                return Err(usage(
+                    "--certificate covers --format json or the summary, not rendered formats"
+                        .into(),
+                ));
+            }
             return super::render::write(&a, &input, &sets);
         }
         Format::Json => to_json(&header, &sets, ex),

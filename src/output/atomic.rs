@@ -34,9 +34,17 @@ impl AtomicFile {
         })
     }
 
-    /// Flushes and renames the file into place.
+    /// Flushes and renames the file into place, readable by others like a
+    /// file the user created (temporary files start owner-only).
     pub fn commit(mut self) -> std::io::Result<()> {
         self.tmp.flush()?;
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            self.tmp
+                .as_file()
+                .set_permissions(std::fs::Permissions::from_mode(0o644))?;
+        }
         self.tmp.as_file().sync_all()?;
         self.tmp.persist(&self.path).map_err(|e| e.error)?;
         Ok(())
