@@ -10,7 +10,7 @@
 use crate::ids::VertexId;
 use crate::mesh::topology::Topology;
 use crate::segment::{CutPoint, Segment, Via};
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 /// A chaining failure: the segments do not form closed loops. This is an
 /// internal error (a bug in classification), never a user error.
@@ -44,7 +44,8 @@ struct Ends {
 /// order; loops come out in order of their smallest segment index, and each
 /// loop starts at its smallest segment index, so the result is canonical.
 pub fn chain_loops(topo: &Topology, segments: &[Segment]) -> Result<Vec<Vec<usize>>, ChainError> {
-    let mut at: HashMap<CutPoint, Ends> = HashMap::with_capacity(segments.len());
+    let mut at: HashMap<CutPoint, Ends> =
+        HashMap::with_capacity_and_hasher(segments.len(), Default::default());
     for (i, s) in segments.iter().enumerate() {
         at.entry(s.from).or_default().outgoing.push(i);
         at.entry(s.to).or_default().incoming.push(i);
@@ -101,7 +102,8 @@ fn pair_at_vertex(
     // Position in the fan: 2k for the edge to neighbour n_k, 2k + 1 for the
     // face (v, n_k, n_{k+1}).
     let fan = topo.fan(v);
-    let mut position: HashMap<Via, usize> = HashMap::with_capacity(2 * fan.len());
+    let mut position: HashMap<Via, usize> =
+        HashMap::with_capacity_and_hasher(2 * fan.len(), Default::default());
     for (k, entry) in fan.iter().enumerate() {
         position.insert(Via::Edge(entry.edge), 2 * k);
         position.insert(Via::Face(entry.face), 2 * k + 1);

@@ -8,7 +8,7 @@ use super::Signs;
 use crate::exact::Sign;
 use crate::ids::{EdgeId, FaceId, VertexId};
 use crate::mesh::topology::Topology;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 /// Ridge or valley: the two kinds of 1D extremum S_NO.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]

@@ -73,7 +73,7 @@ pub fn face_regions(
     topo: &Topology,
     signs: &Signs<'_>,
     in_plane: &[FaceId],
-    region_of: &mut std::collections::HashMap<FaceId, u32>,
+    region_of: &mut rustc_hash::FxHashMap<FaceId, u32>,
 ) -> Vec<Region> {
     region_of.clear();
     let is_in_plane = |f: FaceId| mesh.faces[f.idx()].iter().all(|&v| signs.is_zero(v));

@@ -5,7 +5,8 @@ use super::level::Level;
 use super::rational::{rat_from_f64, rat_to_f64, Rat};
 use super::volume::decompose;
 use num_bigint::BigInt;
-use num_traits::Zero;
+use num_integer::Integer;
+use num_traits::{One, Zero};
 
 /// A point of the plane `z = c` with exact rational coordinates.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -153,7 +154,43 @@ fn on_edge_i128(a: [f64; 3], b: [f64; 3], level: &Level) -> Option<Point2> {
 
 /// Exact signed area of a closed polygon (shoelace): positive when
 /// counter-clockwise.
+///
+/// Fast path: the coordinates are brought to one common denominator (the
+/// lcm of theirs, usually small: crossings at one level share most of their
+/// denominators), so the sum runs on integers with a single reduction at
+/// the end. When that lcm grows past 4096 bits, the plain rational sum is
+/// used. Both are exact (property-tested).
 pub fn signed_area(points: &[Point2]) -> Rat {
+    signed_area_common_denominator(points).unwrap_or_else(|| signed_area_reference(points))
+}
+
+fn signed_area_common_denominator(points: &[Point2]) -> Option<Rat> {
+    let mut lcm = BigInt::one();
+    for p in points {
+        for r in [&p.x, &p.y] {
+            let d = r.denom();
+            if !(&lcm % d).is_zero() {
+                lcm = lcm.lcm(d);
+                if lcm.bits() > 4096 {
+                    return None;
+                }
+            }
+        }
+    }
+    let scale = |r: &Rat| r.numer() * (&lcm / r.denom());
+    let ints: Vec<(BigInt, BigInt)> = points.iter().map(|p| (scale(&p.x), scale(&p.y))).collect();
+    let n = ints.len();
+    let mut twice = BigInt::zero();
+    for i in 0..n {
+        let (x0, y0) = &ints[i];
+        let (x1, y1) = &ints[(i + 1) % n];
+        twice += x0 * y1 - x1 * y0;
+    }
+    Some(Rat::new(twice, &lcm * &lcm * BigInt::from(2)))
+}
+
+/// The shoelace with rational arithmetic throughout: the reference.
+pub fn signed_area_reference(points: &[Point2]) -> Rat {
     let n = points.len();
     let mut twice = Rat::zero();
     for i in 0..n {
@@ -200,6 +237,20 @@ mod tests {
             if let Some(p) = on_edge_i128(a, b, &level) {
                 proptest::prop_assert_eq!(p, Point2::on_edge_reference(a, b, &level));
             }
+        }
+    }
+
+    proptest::proptest! {
+        /// The common-denominator shoelace equals the rational one.
+        #[test]
+        fn fast_area_equals_the_reference(
+            pts in proptest::collection::vec(((-1000i64..1000, 1i64..50), (-1000i64..1000, 1i64..50)), 0..12)
+        ) {
+            let poly: Vec<Point2> = pts
+                .iter()
+                .map(|&((a, b), (c, d))| Point2 { x: Rat::new(a.into(), b.into()), y: Rat::new(c.into(), d.into()) })
+                .collect();
+            proptest::prop_assert_eq!(signed_area(&poly), signed_area_reference(&poly));
         }
     }
 

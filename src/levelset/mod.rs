@@ -24,7 +24,7 @@ use crate::mesh::Mesh;
 use crate::nest::{nest, Role};
 use crate::segment::{edge_segments, face_segment, CutPoint, Segment, Via};
 use num_traits::{One, Signed, Zero};
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 /// A closed, oriented loop with exact points.
 #[derive(Clone, Debug, PartialEq)]
@@ -286,7 +286,7 @@ impl<'a> LevelBuilder<'a> {
             .copied()
             .filter(|&f| mesh.faces[f.idx()].iter().all(|&v| zero(v)))
             .collect();
-        let mut region_of = HashMap::new();
+        let mut region_of = HashMap::default();
         let regions = face_regions(mesh, topo, signs, &in_plane, &mut region_of);
 
         // In-plane edges, decided once each by the edge table.
@@ -320,7 +320,7 @@ impl<'a> LevelBuilder<'a> {
         let contours = self.loops(&segments, |c| self.cut_point(c))?;
 
         // Saddles: on-plane vertices with 2m >= 4 S_O branches.
-        let mut branches: HashMap<VertexId, u32> = HashMap::new();
+        let mut branches: HashMap<VertexId, u32> = HashMap::default();
         for s in &segments {
             for c in [s.from, s.to] {
                 if let CutPoint::AtVertex(v) = c {
@@ -494,8 +494,9 @@ impl<'a> LevelBuilder<'a> {
 
 /// Sets roles and parents of a family of loops.
 fn renest(loops: &mut [Loop]) {
-    let polys: Vec<Vec<Point2>> = loops.iter().map(|l| l.points.clone()).collect();
-    for (l, n) in loops.iter_mut().zip(nest(&polys)) {
+    let polys: Vec<&[Point2]> = loops.iter().map(|l| l.points.as_slice()).collect();
+    let nesting = nest(&polys);
+    for (l, n) in loops.iter_mut().zip(nesting) {
         l.role = n.role;
         l.parent = n.parent;
     }

@@ -4,7 +4,7 @@
 
 use crate::classify::RidgeKind;
 use crate::ids::{EdgeId, VertexId};
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 /// A maximal S_NO polyline (topology only; points are added by the caller).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -21,7 +21,7 @@ pub struct RidgePath {
 /// Joins S_NO edges `(edge, [a, b], kind)` into maximal polylines, in a
 /// canonical order (by smallest edge id).
 pub fn join_ridges(edges: &[(EdgeId, [VertexId; 2], RidgeKind)]) -> Vec<RidgePath> {
-    let mut at: HashMap<VertexId, Vec<usize>> = HashMap::new();
+    let mut at: HashMap<VertexId, Vec<usize>> = HashMap::default();
     for (i, (_, v, _)) in edges.iter().enumerate() {
         at.entry(v[0]).or_default().push(i);
         at.entry(v[1]).or_default().push(i);

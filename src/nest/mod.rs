@@ -12,8 +12,8 @@
 use crate::exact::filter::{cmp_y, orient2d_filtered, FilteredPoint, Key};
 use crate::exact::rational::Rat;
 use crate::exact::{Point2, Sign};
+use rustc_hash::FxHashSet as HashSet;
 use std::cmp::Ordering;
-use std::collections::HashSet;
 
 /// Outer boundary or hole (SPEC section 9 `role`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
@@ -112,16 +112,16 @@ fn bbox(poly: &[FilteredPoint<'_>]) -> Bbox {
 }
 
 /// Nests a family of loops. `loops[i]` is the exact polygon of loop `i`.
-pub fn nest(loops: &[Vec<Point2>]) -> Vec<Nesting> {
+pub fn nest<P: AsRef<[Point2]>>(loops: &[P]) -> Vec<Nesting> {
     let n = loops.len();
     if n == 0 {
         return Vec::new();
     }
     let filtered: Vec<Vec<FilteredPoint<'_>>> = loops
         .iter()
-        .map(|l| l.iter().map(FilteredPoint::new).collect())
+        .map(|l| l.as_ref().iter().map(FilteredPoint::new).collect())
         .collect();
-    let mut segments: HashSet<(Key, Key)> = HashSet::new();
+    let mut segments: HashSet<(Key, Key)> = HashSet::default();
     for l in &filtered {
         for i in 0..l.len() {
             segments.insert((l[i].key(), l[(i + 1) % l.len()].key()));
