@@ -249,3 +249,27 @@ fn check_exits_3_and_names_the_defect() {
     assert_eq!(json["stats"]["volume"], "1/6");
     assert_eq!(json["accepted"], true);
 }
+
+#[test]
+fn snapping_that_flattens_a_sliver_is_caught_and_named() {
+    // A flat tetrahedron, apex 0.0001 above its base: valid as read, but
+    // snapping to 0.001 puts the apex in the base plane, inside the base
+    // triangle, folding faces onto each other.
+    let mut m = tetra();
+    m.positions[3] = [0.25, 0.25, 0.0001];
+    assert!(validate(&m).is_accepted());
+    let dir = tempfile::tempdir().unwrap();
+    let path = write_off(dir.path(), "sliver.off", &m);
+    let out = Command::new(env!("CARGO_BIN_EXE_wmslice"))
+        .args(["check", "--snap", "0.001"])
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(3));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("fold onto each other"), "{text}");
+    assert!(
+        text.contains("snapped to grid 1/1000: 1 vertices moved"),
+        "{text}"
+    );
+}
