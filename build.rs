@@ -1,11 +1,26 @@
-//! Input: the Cargo feature `cgal-oracle` (seen as `CARGO_FEATURE_CGAL_ORACLE`).
-//! Output: with the feature, the C++ CGAL test oracle `cpp-oracle/oracle.cpp`
+//! Input: the Cargo feature `cgal-oracle` (seen as `CARGO_FEATURE_CGAL_ORACLE`)
+//! and the git checkout. Output: the build commit as `WMSLICE_BUILD_COMMIT`;
+//! with the feature, the C++ CGAL test oracle `cpp-oracle/oracle.cpp`
 //! compiled (C++17, `-O1`) into a static library and linked with `gmp`,
 //! `mpfr` and `stdc++`; without it, nothing (the default build needs
 //! neither CGAL nor a C++ toolchain).
 
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
+    // The build commit, for certificates (absent outside a git checkout).
+    println!("cargo:rerun-if-changed=.git/HEAD");
+    println!("cargo:rerun-if-changed=.git/refs/heads");
+    if let Ok(o) = std::process::Command::new("git")
+        .args(["rev-parse", "HEAD"])
+        .output()
+    {
+        if o.status.success() {
+            println!(
+                "cargo:rustc-env=WMSLICE_BUILD_COMMIT={}",
+                String::from_utf8_lossy(&o.stdout).trim()
+            );
+        }
+    }
     if std::env::var_os("CARGO_FEATURE_CGAL_ORACLE").is_some() {
         #[cfg(feature = "cgal-oracle")]
         build_oracle();

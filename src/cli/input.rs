@@ -20,7 +20,6 @@ pub struct Input {
     /// What loading did, for the user.
     pub notes: Vec<String>,
     /// The bytes of the input file (empty for a built-in dataset).
-    #[allow(dead_code)] // read by --certificate, being written
     pub file_bytes: Vec<u8>,
 }
 

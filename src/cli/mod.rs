@@ -2,7 +2,8 @@
 //!
 //! Exit codes: 0 success; 1 internal error (a bug: please report);
 //! 2 bad arguments; 3 the mesh is invalid (rejected by validation);
-//! 4 the input cannot be read or parsed; 5 an output cannot be written.
+//! 4 the input cannot be read or parsed; 5 an output cannot be written;
+//! 6 verification failed (`verify` found violations).
 //! A panic (101) is a bug.
 
 mod args;
@@ -45,6 +46,8 @@ pub enum ExitCode {
     Input = 4,
     /// An output cannot be written.
     Output = 5,
+    /// `verify` found the result wrong.
+    Verification = 6,
 }
 
 impl fmt::Display for Failure {
@@ -142,14 +145,12 @@ pub fn slice_error(e: SliceError) -> Failure {
 }
 
 /// Writes `text` to `out` atomically, or to stdout.
+/// The same bytes go to the file and to stdout: `text` ends with a newline.
 pub fn emit(out: Option<&Path>, text: &str) -> Result<(), Failure> {
     match out {
         Some(p) => write_atomic(p, text.as_bytes())
             .map_err(|e| anyhow!("cannot write {}: {e}", p.display()))
             .tag(ExitCode::Output),
-        None => {
-            say!("{text}");
-            Ok(())
-        }
+        None => write_stdout(text.strip_suffix('\n').unwrap_or(text)),
     }
 }

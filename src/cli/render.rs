@@ -171,7 +171,7 @@ fn write_svgs(
     if levels.len() == 1 {
         let svg = level_svg(levels[0], scene, name, &opts);
         return match out {
-            None => emit(None, svg.trim_end()),
+            None => emit(None, &svg),
             Some(p) if into_dir(p) => {
                 let f = p.join(level_file_name(0, &levels[0].level));
                 write_file(&f, svg.as_bytes())?;

@@ -161,6 +161,11 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
     let levels =
         plan_levels(uniform.as_ref(), &explicit, (&lo, &hi)).map_err(|e| usage(e.to_string()))?;
     if a.naive {
+        if a.certificate.is_some() {
+            return Err(usage(
+                "--certificate does not certify the --naive slicer".into(),
+            ));
+        }
         return slice_naive(&a, &input, &levels);
     }
     let slicer = Slicer::with_unit(&input.mesh, unit).map_err(slice_error)?;
@@ -222,10 +227,12 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
         Format::Json => to_json(&header, &sets, ex),
         Format::Summary => sets.iter().map(summary).collect::<Vec<_>>().join("\n") + "\n",
     };
-    if let Some(path) = &a.certificate {
-        super::certificate::write(path, &a, &input, &levels, &sets, text.as_bytes())?;
+    emit(a.output.as_deref(), &text)?;
+    // After the result, so a failed write leaves no certificate.
+    match &a.certificate {
+        Some(path) => super::certificate::write(path, &a, &input, &levels, &sets, text.as_bytes()),
+        None => Ok(()),
     }
-    emit(a.output.as_deref(), text.trim_end_matches('\n'))
 }
 
 fn slice_naive(a: &SliceArgs, input: &Input, levels: &[Rat]) -> Result<(), Failure> {
@@ -252,5 +259,5 @@ fn slice_naive(a: &SliceArgs, input: &Input, levels: &[Rat]) -> Result<(), Failu
             n.open
         ));
     }
-    emit(a.output.as_deref(), text.trim_end())
+    emit(a.output.as_deref(), &text)
 }

@@ -1,9 +1,50 @@
 //! `wmslice verify MESH RESULT.json`: the independent exact re-check.
+//!
+//! Input: a mesh (file or built-in dataset) and a result written by
+//! `slice --format json --exact`. Output: one summary line and exit 0, or
+//! every violation (one per line: level, family, loop, point, what) and
+//! exit 6. A result that is not JSON or not a `wmslice-levelset` document
+//! with exact output exits 4; a mesh the slicer rejects exits 3.
+//!
+//! The snap grid is `--snap Q` when given, else the one the result's header
+//! names; the header must match the grid verified against.
 
 use super::args::VerifyArgs;
-use super::{usage, Failure};
+use super::input::load_input;
+use super::{ExitCode, Failure, Tag};
+use crate::say;
+use anyhow::anyhow;
+use wmslice::verify::{read_header, verify, VerifyError};
 
 /// Runs `verify`.
-pub fn run(_a: VerifyArgs) -> Result<(), Failure> {
-    Err(usage("verify is not available yet".into()))
+pub fn run(a: VerifyArgs) -> Result<(), Failure> {
+    let shown = a.result.display();
+    let bytes = std::fs::read(&a.result)
+        .map_err(|e| anyhow!("cannot read {shown}: {e}"))
+        .tag(ExitCode::Input)?;
+    let text = String::from_utf8(bytes)
+        .map_err(|e| anyhow!("{shown} is not UTF-8 text: {e}"))
+        .tag(ExitCode::Input)?;
+    let unreadable = |e: VerifyError| Failure {
+        code: match e {
+            VerifyError::MeshRejected { .. } => ExitCode::InvalidMesh,
+            VerifyError::Json(_) | VerifyError::Format(_) => ExitCode::Input,
+        },
+        error: anyhow!("{shown}: {e}"),
+    };
+    let header = read_header(&text).map_err(unreadable)?;
+    let snap = a.snap.clone().or(header.snap);
+    let input = load_input(&a.mesh, snap.as_deref())?;
+    let report = verify(&input.mesh, input.unit.as_ref(), &text).map_err(unreadable)?;
+    if report.passed() {
+        say!("{shown}: {}", report.summary());
+        return Ok(());
+    }
+    for v in &report.violations {
+        say!("{v}");
+    }
+    Err(Failure {
+        code: ExitCode::Verification,
+        error: anyhow!("{shown}: {}", report.summary()),
+    })
 }

@@ -1,0 +1,396 @@
+//! Input: one file per defect class (the bad-input matrix), run through the
+//! command line. Output: each row's documented exit code (0 ok, 1 internal,
+//! 2 usage, 3 invalid mesh, 4 input unreadable, 5 output error, 6
+//! verification failed), never 101 (a panic), a message on stderr (stdout
+//! for `check`) naming the defect, and no output file and no certificate
+//! left behind when it fails.
+
+use std::io::Write;
+use std::path::Path;
+use std::process::Command;
+
+const TETRA_POS: [[f64; 3]; 4] = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]];
+const TETRA: [[u32; 3]; 4] = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+
+fn off(pos: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<u8> {
+    let mut s = format!("OFF\n{} {} 0\n", pos.len(), faces.len());
+    for p in pos {
+        s += &format!("{:?} {:?} {:?}\n", p[0], p[1], p[2]);
+    }
+    for t in faces {
+        s += &format!("3 {} {} {}\n", t[0], t[1], t[2]);
+    }
+    s.into_bytes()
+}
+
+fn tetra_with(edit: impl FnOnce(&mut Vec<[u32; 3]>)) -> Vec<u8> {
+    let mut faces = TETRA.to_vec();
+    edit(&mut faces);
+    off(&TETRA_POS, &faces)
+}
+
+/// Two tetrahedra, the second shifted and renumbered through `map`.
+fn two_tetras(shift: [f64; 3], map: [u32; 4]) -> Vec<u8> {
+    let mut pos = TETRA_POS.to_vec();
+    for p in TETRA_POS {
+        pos.push([p[0] + shift[0], p[1] + shift[1], p[2] + shift[2]]);
+    }
+    let mut faces = TETRA.to_vec();
+    for f in TETRA {
+        faces.push(f.map(|v| map[v as usize]));
+    }
+    off(&pos, &faces)
+}
+
+fn binary_stl(count: u32, corners: &[[f32; 3]]) -> Vec<u8> {
+    let mut b = vec![0u8; 80];
+    b.extend(count.to_le_bytes());
+    for tri in corners.chunks(3) {
+        b.extend([0u8; 12]); // normal
+        for c in tri {
+            for x in c {
+                b.extend(x.to_le_bytes());
+            }
+        }
+        b.extend([0u8; 2]);
+    }
+    b
+}
+
+fn tetra_corners() -> Vec<[f32; 3]> {
+    TETRA
+        .iter()
+        .flat_map(|f| f.map(|v| TETRA_POS[v as usize].map(|x| x as f32)))
+        .collect()
+}
+
+fn obj(coord: &str, last_face: &str) -> Vec<u8> {
+    format!("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 {coord}\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf {last_face}\n")
+        .into_bytes()
+}
+
+fn zip_bomb_3mf() -> Vec<u8> {
+    let model = format!(
+        r#"<?xml version="1.0" encoding="UTF-8"?>
+<model unit="millimeter" xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02"><resources><object id="1" type="model"><mesh><vertices><vertex x="0" y="0" z="0"/><vertex x="1" y="0" z="0"/><vertex x="0" y="1" z="0"/><vertex x="0" y="0" z="1"/></vertices><triangles><triangle v1="0" v2="2" v3="1"/><triangle v1="0" v2="1" v3="3"/><triangle v1="1" v2="2" v3="3"/><triangle v1="2" v2="0" v3="3"/></triangles></mesh></object></resources><build><item objectid="1"/></build></model>{}"#,
+        " ".repeat(8 << 20)
+    );
+    let mut zw = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
+    let options = zip::write::SimpleFileOptions::default()
+        .compression_method(zip::CompressionMethod::Deflated);
+    zw.start_file("3D/3dmodel.model", options).unwrap();
+    zw.write_all(model.as_bytes()).unwrap();
+    zw.finish().unwrap().into_inner()
+}
+
+/// How a row is run.
+#[derive(Clone, Copy, Debug)]
+enum Run {
+    /// `slice FILE --at Z --format json --exact -o OUT --certificate CERT`.
+    Slice(&'static str),
+    /// `check FILE` (defects are listed on stdout).
+    Check,
+    /// `verify unit_cube FILE`.
+    Verify,
+}
+
+struct Row {
+    defect: &'static str,
+    file: &'static str,
+    bytes: Vec<u8>,
+    run: Run,
+    code: i32,
+    names: &'static str,
+}
+
+fn rows() -> Vec<Row> {
+    let row = |defect, file, bytes, run, code, names| Row {
+        defect,
+        file,
+        bytes,
+        run,
+        code,
+        names,
+    };
+    let s = Run::Slice("1/2");
+    let lying_ply = "ply\nformat ascii 1.0\nelement vertex 100\nproperty float x\nproperty float y\nproperty float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    // Vertex 4 at the midpoint of edge 0-1: face [0, 1, 4] has zero area.
+    let mut zero_pos = TETRA_POS.to_vec();
+    zero_pos.push([0.5, 0., 0.]);
+    let zero_faces = [
+        [0, 2, 1],
+        [0, 1, 4],
+        [0, 4, 3],
+        [4, 1, 3],
+        [0, 3, 2],
+        [1, 2, 3],
+    ];
+    let good_stl = binary_stl(4, &tetra_corners());
+    let mut nan_stl = tetra_corners();
+    nan_stl[5][2] = f32::NAN;
+    let inverted: Vec<[u32; 3]> = TETRA.iter().map(|f| [f[0], f[2], f[1]]).collect();
+    vec![
+        row("empty file", "empty.stl", Vec::new(), s, 4, "truncated"),
+        row(
+            "truncated binary STL",
+            "truncated.stl",
+            good_stl[..good_stl.len() - 30].to_vec(),
+            s,
+            4,
+            "truncated",
+        ),
+        row(
+            "header claims more triangles than the file holds",
+            "claims.stl",
+            binary_stl(1000, &tetra_corners()),
+            s,
+            4,
+            "claims 1000 triangle",
+        ),
+        row(
+            "ASCII STL with garbage",
+            "garbage.stl",
+            b"solid x\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 zz\n".to_vec(),
+            s,
+            4,
+            "parse error (line 4)",
+        ),
+        row("NaN coordinate (OBJ)", "nan.obj", obj("nan", "2 3 4"), s, 3, "non-finite coordinate"),
+        row("NaN coordinate (binary STL)", "nan.stl", binary_stl(4, &nan_stl), s, 3, "non-finite coordinate"),
+        row("infinite coordinate", "inf.obj", obj("inf", "2 3 4"), s, 3, "non-finite coordinate"),
+        row("open mesh", "open.off", tetra_with(|f| { f.pop(); }), s, 3, "open edge"),
+        row(
+            "non-manifold edge",
+            "nonmanifold.off",
+            two_tetras([0., -1., -1.], [0, 1, 6, 7]),
+            s,
+            3,
+            "non-manifold edge v0-v1",
+        ),
+        row(
+            "bowtie vertex",
+            "bowtie.off",
+            two_tetras([-1., -1., -1.], [4, 5, 6, 0]),
+            s,
+            3,
+            "bowtie vertex v0",
+        ),
+        row("flipped face", "flipped.off", tetra_with(|f| f[3] = [1, 3, 2]), s, 3, "face f3 is flipped"),
+        row(
+            "inverted mesh (negative volume)",
+            "inverted.off",
+            off(&TETRA_POS, &inverted),
+            s,
+            3,
+            "signed volume -1/6 is not positive",
+        ),
+        row(
+            "duplicate face",
+            "duplicate.off",
+            tetra_with(|f| f.push(f[2])),
+            s,
+            3,
+            "face f4 duplicates face f2",
+        ),
+        row(
+            "zero-area face (accepted, reported by check)",
+            "zero_area.off",
+            off(&zero_pos, &zero_faces),
+            Run::Check,
+            0,
+            "face f1 has zero area",
+        ),
+        row(
+            "zero-area face in the plane (accepted, sliced, verified)",
+            "zero_area_sliced.off",
+            off(&zero_pos, &zero_faces),
+            Run::Slice("0"),
+            0,
+            "",
+        ),
+        row(
+            "OBJ index out of range",
+            "range.obj",
+            obj("1", "2 3 9"),
+            s,
+            3,
+            "refers to vertex 8, but there are only 4 vertices",
+        ),
+        row(
+            "PLY with a lying element count",
+            "lying.ply",
+            lying_ply.as_bytes().to_vec(),
+            s,
+            4,
+            "claims 100 vertex elements",
+        ),
+        row("3MF zip bomb", "bomb.3mf", zip_bomb_3mf(), s, 4, "looks like a zip bomb"),
+        row(
+            "result that is not JSON",
+            "not_json.json",
+            b"{\"format\": \"wmslice-levelset\", ".to_vec(),
+            Run::Verify,
+            4,
+            "not valid JSON: unexpected end of text at line 1",
+        ),
+        row(
+            "result with wrong keys",
+            "wrong_keys.json",
+            br#"{"format": "wmslice-levelset", "version": 1, "mesh": {"vertices": 8}, "levels": []}"#.to_vec(),
+            Run::Verify,
+            4,
+            "$.mesh: missing key `faces`",
+        ),
+        row(
+            "result of another format",
+            "other.json",
+            br#"{"type": "FeatureCollection"}"#.to_vec(),
+            Run::Verify,
+            4,
+            "missing key `format`",
+        ),
+        row(
+            "result written without --exact",
+            "rounded.json",
+            br#"{"format":"wmslice-levelset","version":1,"mesh":{"vertices":8,"faces":12,"sha256":"x","snap":null},"levels":[{"z":"1/2","contours":[{"points":[[0.0,0.0]],"area":0.0,"role":"outer","parent":null}],"faces":[],"ridges":[],"points":[],"saddles":[],"below":[],"above":[]}]}"#.to_vec(),
+            Run::Verify,
+            4,
+            "written without --exact",
+        ),
+    ]
+}
+
+fn wmslice(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_wmslice"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+#[test]
+fn every_defect_class_has_its_exit_code_and_message_and_leaves_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut failures = Vec::new();
+    for r in rows() {
+        let input = dir.path().join(r.file);
+        std::fs::write(&input, &r.bytes).unwrap();
+        let out = dir.path().join(format!("{}.out.json", r.file));
+        let cert = dir.path().join(format!("{}.cert.json", r.file));
+        let (code, stdout, stderr) = match r.run {
+            Run::Slice(z) => wmslice(&[
+                "slice",
+                s(&input),
+                "--at",
+                z,
+                "--format",
+                "json",
+                "--exact",
+                "-o",
+                s(&out),
+                "--certificate",
+                s(&cert),
+                "--quiet",
+            ]),
+            Run::Check => wmslice(&["check", s(&input)]),
+            Run::Verify => wmslice(&["verify", "unit_cube", s(&input)]),
+        };
+        let said = if matches!(r.run, Run::Check) {
+            &stdout
+        } else {
+            &stderr
+        };
+        let left = out.exists() || cert.exists();
+        let ok = code == r.code
+            && code != 101
+            && said.contains(r.names)
+            && (code == 0 || !left)
+            && (code != 0 || !matches!(r.run, Run::Slice(_)) || (out.exists() && cert.exists()));
+        if !ok {
+            failures.push(format!(
+                "{}: exit {code} (want {}), output left: {left}, wanted {:?} in:\n{said}",
+                r.defect, r.code, r.names
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
+
+#[test]
+fn usage_and_output_errors_have_their_codes_and_leave_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let cert = dir.path().join("cert.json");
+    // An unparsable level: 2.
+    let (code, _, err) = wmslice(&[
+        "slice",
+        "unit_cube",
+        "--at",
+        "zero",
+        "--certificate",
+        s(&cert),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("'zero' is not a number"), "{err}");
+    // An output under a regular file: 5.
+    let blocker = dir.path().join("file");
+    std::fs::write(&blocker, b"x").unwrap();
+    let out = blocker.join("r.json");
+    let (code, _, err) = wmslice(&[
+        "slice",
+        "unit_cube",
+        "--at",
+        "1/2",
+        "--format",
+        "json",
+        "-o",
+        s(&out),
+        "--quiet",
+    ]);
+    assert_eq!(code, 5, "{err}");
+    assert!(err.contains("cannot write"), "{err}");
+    // A missing mesh, a missing result: 4.
+    let (code, _, err) = wmslice(&["verify", "unit_cube", s(&dir.path().join("none.json"))]);
+    assert_eq!(code, 4, "{err}");
+    assert!(err.contains("cannot read"), "{err}");
+    let (code, _, _) = wmslice(&["verify", "no_such_mesh", s(&blocker)]);
+    assert_eq!(code, 4);
+    assert!(!cert.exists() && !out.exists());
+}
+
+#[test]
+fn verify_against_an_invalid_mesh_exits_3() {
+    let dir = tempfile::tempdir().unwrap();
+    let result = dir.path().join("r.json");
+    let (code, _, err) = wmslice(&[
+        "slice",
+        "unit_cube",
+        "--at",
+        "1/2",
+        "--format",
+        "json",
+        "--exact",
+        "-o",
+        s(&result),
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let open = dir.path().join("open.off");
+    std::fs::write(
+        &open,
+        tetra_with(|f| {
+            f.pop();
+        }),
+    )
+    .unwrap();
+    let (code, _, err) = wmslice(&["verify", s(&open), s(&result)]);
+    assert_eq!(code, 3, "{err}");
+    assert!(err.contains("open edge"), "{err}");
+}
