@@ -14,8 +14,8 @@ mod common;
 
 fuzz_target!(|data: &[u8]| {
     let mut zw = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
-    let options = zip::write::SimpleFileOptions::default()
-        .compression_method(zip::CompressionMethod::Stored);
+    let options =
+        zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Stored);
     if zw.start_file("3D/3dmodel.model", options).is_err() || zw.write_all(data).is_err() {
         return;
     }

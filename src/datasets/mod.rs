@@ -12,6 +12,7 @@
 mod build;
 pub mod expected;
 mod shapes;
+pub mod slab;
 
 use crate::mesh::Mesh;
 

@@ -10,6 +10,11 @@
 //! SPEC.md, not from this crate's code, so agreement is evidence. Calls
 //! are serialised by a mutex (CGAL's lazy kernel is not relied on to be
 //! thread-safe).
+//!
+//! [`compare`] compares this answer with the Rust level set element by
+//! element (shared by `tests/oracle.rs` and the `slice_oracle` fuzz target).
+
+pub mod compare;
 
 use crate::classify::{ExtremumKind, Facing, RidgeKind};
 use crate::exact::{parse_rational, Rat, Sign};

@@ -1,0 +1,56 @@
+//! Writes the benchmark meshes of `bench/compare` (see `bench/meshgen.rs`)
+//! as binary STL with a small JSON description beside each:
+//!
+//! ```sh
+//! cargo run --release --example bench_meshes -- OUT_DIR 200k 1m
+//! ```
+//!
+//! Writes `torus_<size>.stl` and `steps_<size>.stl`. Sizes: `200k` and
+//! `1m` (about 200 000 and 1 000 000 triangles), or a number of triangles
+//! (`50000`).
+
+#[path = "../bench/meshgen.rs"]
+#[allow(dead_code)] // the criterion benches use the rest
+mod meshgen;
+
+use std::path::Path;
+
+fn parse_size(s: &str) -> Option<usize> {
+    match s.to_ascii_lowercase().as_str() {
+        "200k" => Some(200_000),
+        "1m" => Some(1_000_000),
+        other => other.parse().ok(),
+    }
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.len() < 2 {
+        return Err(
+            "usage: bench_meshes OUT_DIR SIZE... (SIZE: 200k, 1m or a triangle count)".into(),
+        );
+    }
+    let dir = Path::new(&args[0]);
+    std::fs::create_dir_all(dir)?;
+    for label in &args[1..] {
+        let target = parse_size(label).ok_or(format!("bad size {label}"))?;
+        for (name, mesh) in [
+            ("torus", meshgen::torus_of(target)),
+            ("steps", meshgen::steps_of(target)),
+        ] {
+            let stem = format!("{name}_{}", label.to_ascii_lowercase());
+            mesh.write_stl(&dir.join(format!("{stem}.stl")))?;
+            let (lo, hi) = mesh.z_range();
+            let meta = format!(
+                "{{\"name\": \"{stem}\", \"triangles\": {}, \"vertices\": {}, \"zmin\": {:?}, \"zmax\": {:?}}}\n",
+                mesh.tris.len(),
+                mesh.pos.len(),
+                lo as f64,
+                hi as f64
+            );
+            std::fs::write(dir.join(format!("{stem}.json")), &meta)?;
+            print!("{meta}");
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,131 @@
+#!/usr/bin/env bash
+# Usage: scripts/fuzz.sh [SECONDS]   (default 60 seconds per target)
+#
+# Builds and runs every cargo-fuzz target of fuzz/ for SECONDS each:
+# the parsers (parse_*), slice_invariants, and slice_oracle when the CGAL,
+# GMP, MPFR and Boost headers are present. Each run starts from the seeds
+# in fuzz/corpus/seeds/TARGET and grows a scratch corpus in
+# fuzz/corpus/scratch/TARGET (gitignored; kept between runs). Logs go to
+# fuzz/corpus/scratch/logs/TARGET.log, crashing inputs to
+# fuzz/artifacts/TARGET/. Prints the executions per target and exits
+# non-zero if any target crashed (or failed to build or run); a failing
+# slab target prints the case as a ready regression test for
+# tests/fuzz_regressions.rs.
+#
+# Works on stable Rust (no sanitizer). FUZZ_SANITIZER=address uses ASan
+# through RUSTC_BOOTSTRAP=1 (slower). Installs cargo-fuzz when missing.
+set -uo pipefail
+cd "$(dirname "$0")/.."
+root=$(pwd)
+secs=${1:-60}
+case "$secs" in
+  '' | *[!0-9]*) echo "usage: $0 [SECONDS]" >&2; exit 2 ;;
+esac
+start=$(date +%s)
+
+if ! cargo fuzz --version >/dev/null 2>&1; then
+  echo "== cargo install cargo-fuzz --locked"
+  cargo install cargo-fuzz --locked || exit 1
+fi
+
+sanitizer=${FUZZ_SANITIZER:-none}
+if [ "$sanitizer" != none ]; then
+  export RUSTC_BOOTSTRAP=1
+fi
+
+# slice_oracle links the C++ CGAL oracle: only when its headers are there.
+have_cgal=0
+if printf '#include <CGAL/version.h>\n#include <gmp.h>\n#include <mpfr.h>\n#include <boost/version.hpp>\n' |
+  g++ -E -x c++ - >/dev/null 2>&1; then
+  have_cgal=1
+fi
+
+parsers=(parse_stl parse_obj parse_off parse_ply parse_3mf parse_3mf_model)
+# Parsers: the default instrumentation (comparison tracing finds keywords).
+parser_flags=(--sanitizer "$sanitizer")
+# Slab targets: big-rational arithmetic makes comparison tracing costly and
+# useless (3-5x fewer executions), so it is off; overflow checks are on.
+# Their own target dir keeps both builds cached.
+slice_flags=(--sanitizer "$sanitizer" --no-trace-compares --debug-assertions
+  --target-dir "$root/fuzz/target/slice")
+slices=(slice_invariants)
+if [ "$have_cgal" = 1 ]; then
+  slice_flags+=(--features cgal-oracle)
+  slices+=(slice_oracle)
+else
+  echo "== CGAL/GMP/MPFR/Boost headers missing: slice_oracle skipped"
+fi
+
+scratch=$root/fuzz/corpus/scratch
+mkdir -p "$scratch/logs"
+
+status=0
+declare -A result
+build() {
+  local what=$1
+  shift
+  echo "== cargo fuzz build $*"
+  if ! cargo fuzz build "$@"; then
+    echo "FAILED to build the $what targets" >&2
+    status=1
+    return 1
+  fi
+}
+
+b0=$(date +%s)
+parsers_built=1
+slices_built=1
+for t in "${parsers[@]}"; do
+  build parser "${parser_flags[@]}" "$t" || parsers_built=0
+done
+for t in "${slices[@]}"; do
+  build slab "${slice_flags[@]}" "$t" || slices_built=0
+done
+echo "== builds took $(($(date +%s) - b0)) s"
+
+# run TARGET "LIBFUZZER ARGS" CARGO-FUZZ FLAGS...
+run() {
+  local t=$1
+  local -a extra
+  read -r -a extra <<<"$2"
+  shift 2
+  local log=$scratch/logs/$t.log
+  mkdir -p "$scratch/$t" "$root/fuzz/artifacts/$t"
+  echo "== fuzz $t for ${secs} s"
+  local rc=0
+  cargo fuzz run "$@" "$t" "$scratch/$t" "$root/fuzz/corpus/seeds/$t" -- \
+    -max_total_time="$secs" -print_final_stats=1 "${extra[@]}" >"$log" 2>&1 || rc=$?
+  # The executions: libFuzzer's final statistics, else its last "#N" line.
+  local n
+  n=$(awk '/^stat::number_of_executed_units:/ { n = $2 } END { print n }' "$log")
+  if [ -z "$n" ]; then
+    n=$(grep -oE '^#[0-9]+' "$log" | tail -n 1 | tr -d '#')
+  fi
+  if [ "$rc" -ne 0 ] || grep -qE '^==[0-9]+== ?ERROR|deadly signal|^SUMMARY: libFuzzer' "$log"; then
+    result[$t]="CRASH (exit $rc) after ${n:-?} executions; log: $log"
+    status=1
+    echo "---- $t failed; end of $log:"
+    tail -n 60 "$log"
+    echo "----"
+  else
+    result[$t]="${n:-?} executions"
+  fi
+  echo "$t: ${result[$t]}"
+}
+
+if [ "$parsers_built" = 1 ]; then
+  for t in "${parsers[@]}"; do
+    run "$t" "" "${parser_flags[@]}"
+  done
+fi
+if [ "$slices_built" = 1 ]; then
+  for t in "${slices[@]}"; do
+    run "$t" "-max_len=256 -timeout=60" "${slice_flags[@]}"
+  done
+fi
+
+echo "== fuzz summary (${secs} s per target, $(($(date +%s) - start)) s in all)"
+for t in "${parsers[@]}" "${slices[@]}"; do
+  printf '%-18s %s\n' "$t" "${result[$t]:-not run}"
+done
+exit "$status"
