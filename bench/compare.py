@@ -78,7 +78,7 @@ def load_average():
         return "?"
 
 
-def versions(args):
+def versions():
     v = {}
     try:
         out = subprocess.run(["rustc", "--version"], capture_output=True, text=True).stdout
@@ -248,7 +248,7 @@ def main():
         tools = [t for t in tools if not t.startswith("cgal")]
 
     machine = machine_line()
-    vers = versions(args)
+    vers = versions()
     load_before = load_average()
     print(f"machine: {machine}", flush=True)
     print("versions: " + ", ".join(f"{k} {v}" for k, v in vers.items()), flush=True)

@@ -8,7 +8,8 @@ nothing ahead), slice_s (all levels, the results kept per level then
 dropped) and counts. Interpreter start and imports are not timed.
 
 - trimesh: `Trimesh.section_multiplane` (segments chained into closed
-  2D paths, `Path2D.discrete`, the polylines a user gets).
+  2D paths, `Path2D.discrete`, the polylines a user gets; needs networkx
+  and scipy, which bench/compare installs).
 - manifold3d: `Manifold.slice(z)` per level, then `CrossSection.to_polygons()`.
   manifold3d reads no STL, so the file is read with numpy and welded with
   `numpy.unique` on the exact float32 coordinates.
