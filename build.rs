@@ -8,8 +8,12 @@
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
     // The build commit, for certificates (absent outside a git checkout).
-    println!("cargo:rerun-if-changed=.git/HEAD");
-    println!("cargo:rerun-if-changed=.git/refs/heads");
+    // Watching a path that does not exist would rebuild every time.
+    for watched in [".git/HEAD", ".git/refs/heads"] {
+        if std::path::Path::new(watched).exists() {
+            println!("cargo:rerun-if-changed={watched}");
+        }
+    }
     if let Ok(o) = std::process::Command::new("git")
         .args(["rev-parse", "HEAD"])
         .output()
