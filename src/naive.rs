@@ -10,7 +10,7 @@
 //! edge is emitted once per neighbour face; in-plane faces emit their
 //! edges. The exact arithmetic is kept so the only error is the method's.
 
-use crate::exact::point::signed_area;
+use crate::exact::area::signed_area;
 use crate::exact::rational::Rat;
 use crate::exact::{Level, Point2, Sign};
 use crate::mesh::Mesh;

@@ -17,7 +17,7 @@ fn rat((p, q): (i128, u128)) -> Rat {
 fn sum(loops: &[Loop]) -> Rat {
     loops
         .iter()
-        .fold(Rat::from_integer(0.into()), |a, l| a + &l.area)
+        .fold(Rat::from_integer(0.into()), |a, l| a + l.area())
 }
 
 fn observed(ls: &LevelSet) -> String {

@@ -3,13 +3,13 @@
 //! edges), each with its facing, exact area and boundary half-edges dF.
 
 use super::Signs;
+use crate::exact::area::{twice_area_xy, Dyadic};
 use crate::exact::predicates::orient2d_xy;
-use crate::exact::rational::{rat_from_f64, Rat};
+use crate::exact::rational::Rat;
 use crate::exact::Sign;
 use crate::ids::{EdgeId, FaceId, VertexId};
 use crate::mesh::topology::Topology;
 use crate::mesh::Mesh;
-use num_traits::{Signed, Zero};
 
 /// Which way an in-plane region faces (SPEC section 3).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
@@ -59,11 +59,6 @@ pub fn face_facing(mesh: &Mesh, f: FaceId) -> Facing {
         Sign::Negative => Facing::Down,
         Sign::Zero => Facing::Flat,
     }
-}
-
-fn twice_area_xy(mesh: &Mesh, f: FaceId) -> Rat {
-    let [a, b, c] = mesh.faces[f.idx()].map(|v| mesh.pos(v).map(rat_from_f64));
-    (&b[0] - &a[0]) * (&c[1] - &a[1]) - (&b[1] - &a[1]) * (&c[0] - &a[0])
 }
 
 /// Finds the face regions among `in_plane` faces (all three signs zero).
@@ -118,19 +113,20 @@ pub fn face_regions(
         }
         faces.sort_unstable();
         let mut facing = Facing::Flat;
-        let mut twice = Rat::zero();
+        let mut twice = Dyadic::default();
         for &f in &faces {
             let fa = face_facing(mesh, f);
             if facing == Facing::Flat {
                 facing = fa;
             }
-            twice += twice_area_xy(mesh, f).abs();
+            let [a, b, c] = mesh.faces[f.idx()].map(|v| mesh.pos(v));
+            twice.add_abs(&twice_area_xy(a, b, c));
         }
         boundary.sort_unstable_by_key(|b| b.edge);
         regions.push(Region {
             faces,
             facing,
-            area: twice / Rat::from_integer(2.into()),
+            area: twice.to_rat_times_pow2(-1),
             boundary,
         });
     }

@@ -132,7 +132,7 @@ fn sha256(bytes: &[u8]) -> String {
 }
 
 fn total_area(loops: &[wmslice::levelset::Loop]) -> String {
-    rat_to_string(&loops.iter().fold(Rat::default(), |a, l| a + &l.area))
+    rat_to_string(&wmslice::levelset::total_area(loops))
 }
 
 fn level_part(ls: &LevelSet) -> LevelPart {

@@ -38,6 +38,11 @@ impl Interval {
     }
 
     #[inline]
+    fn add(self, o: Interval) -> Interval {
+        Interval::widen(self.lo + o.lo, self.hi + o.hi)
+    }
+
+    #[inline]
     fn sub(self, o: Interval) -> Interval {
         Interval::widen(self.lo - o.hi, self.hi - o.lo)
     }
@@ -141,6 +146,34 @@ pub fn orient2d_filtered(
         .unwrap_or_else(|| orient2d_rat(a.exact, b.exact, c.exact))
 }
 
+/// A certified estimate of a polygon's signed area.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AreaEstimate {
+    /// The exact sign, when the enclosure excludes zero.
+    pub sign: Option<Sign>,
+    /// The midpoint of an interval of doubles that contains the exact
+    /// signed area (so of the exact sign whenever `sign` is known).
+    pub approx: f64,
+}
+
+/// Encloses the exact signed area of a closed polygon (shoelace in
+/// interval arithmetic, every operation widened outward by one ulp).
+pub fn signed_area_filtered(points: &[FilteredPoint<'_>]) -> AreaEstimate {
+    let n = points.len();
+    let mut twice = Interval { lo: 0.0, hi: 0.0 };
+    for i in 0..n {
+        let (p, q) = (&points[i], &points[(i + 1) % n]);
+        twice = twice.add(p.x.mul(q.y).sub(q.x.mul(p.y)));
+    }
+    // Halving is exact (barring underflow, which the widening covers).
+    let (lo, hi) = ((twice.lo / 2.0).next_down(), (twice.hi / 2.0).next_up());
+    let area = Interval { lo, hi };
+    AreaEstimate {
+        sign: if n < 3 { Some(Sign::Zero) } else { area.sign() },
+        approx: lo / 2.0 + hi / 2.0,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -159,6 +192,31 @@ mod tests {
     }
 
     proptest! {
+        /// The enclosure's sign, when given, is the exact sign, and its
+        /// midpoint has that sign.
+        #[test]
+        fn area_enclosure_contains_the_exact_area(
+            pts in proptest::collection::vec((frac(), frac()), 0..30),
+            thin in proptest::bool::ANY,
+        ) {
+            let mut poly: Vec<Point2> = pts.iter().map(|&(x, y)| pt(x, y)).collect();
+            if thin {
+                // Nearly degenerate: every point on one line, but one.
+                for (i, p) in poly.iter_mut().enumerate().skip(1) {
+                    p.y = &p.x * Rat::from_integer(3.into()) + Rat::new((i as i64 % 2).into(), (1i64 << 50).into());
+                }
+            }
+            let f: Vec<FilteredPoint<'_>> = poly.iter().map(FilteredPoint::new).collect();
+            let est = signed_area_filtered(&f);
+            let exact = crate::exact::area::signed_area_reference(&poly);
+            if let Some(s) = est.sign {
+                prop_assert_eq!(s, Sign::of_rat(&exact));
+                if s != Sign::Zero {
+                    prop_assert_eq!(Sign::of_rat(&crate::exact::rational::rat_from_f64(est.approx)), s);
+                }
+            }
+        }
+
         #[test]
         fn filtered_equals_exact_on_random_points(a in (frac(), frac()), b in (frac(), frac()), c in (frac(), frac())) {
             let (a, b, c) = (pt(a.0, a.1), pt(b.0, b.1), pt(c.0, c.1));

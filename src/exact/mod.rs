@@ -5,6 +5,7 @@
 //! predicate returns a [`Sign`] or an exact [`Rat`], never a raw float
 //! determinant; floats appear only as (exact) inputs and as rounded output.
 
+pub mod area;
 pub mod filter;
 pub mod level;
 pub mod point;

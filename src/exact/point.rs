@@ -1,12 +1,11 @@
 //! Input: mesh positions and an exact level. Output: exact rational points
-//! in the plane `z = c`, their exact areas, and their rounding for output.
+//! in the plane `z = c`, and their rounding for output.
 
 use super::level::Level;
+use super::rational::decompose;
 use super::rational::{rat_from_f64, rat_to_f64, Rat};
-use super::volume::decompose;
 use num_bigint::BigInt;
-use num_integer::Integer;
-use num_traits::{One, Zero};
+use num_traits::Zero;
 
 /// A point of the plane `z = c` with exact rational coordinates.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -89,11 +88,24 @@ fn common_ints<const N: usize>(xs: [f64; N]) -> Option<([i128; N], i32)> {
     Some((out, e0))
 }
 
-fn gcd_u128(mut a: u128, mut b: u128) -> u128 {
-    while b != 0 {
-        (a, b) = (b, a % b);
+/// Binary gcd (shifts and subtractions: `u128` division is a slow
+/// library call).
+fn gcd_u128(a: u128, b: u128) -> u128 {
+    if a == 0 || b == 0 {
+        return a | b;
     }
-    a
+    let shift = (a | b).trailing_zeros();
+    let (mut a, mut b) = (a >> a.trailing_zeros(), b);
+    loop {
+        b >>= b.trailing_zeros();
+        if a > b {
+            std::mem::swap(&mut a, &mut b);
+        }
+        b -= a;
+        if b == 0 {
+            return a << shift;
+        }
+    }
 }
 
 /// `v * 2^s`, or `None` if any bit would be lost.
@@ -108,18 +120,25 @@ fn reduced(num: i128, den: i128, e: i32) -> Rat {
         return Rat::zero();
     }
     let g = gcd_u128(num.unsigned_abs(), den.unsigned_abs()).max(1) as i128;
-    let (mut n, mut d) = (BigInt::from(num / g), BigInt::from(den / g));
-    if e >= 0 {
-        // Cancel powers of two between 2^e and the denominator.
-        let tz = d.trailing_zeros().unwrap_or(0).min(e as u64);
-        d >>= tz;
-        n <<= e as u64 - tz;
+    let (n, d) = (num / g, den / g);
+    // Cancel powers of two between 2^e and the other side; the shift that
+    // remains is done in i128 when no bit is lost.
+    let (n, d) = if e >= 0 {
+        let tz = d.trailing_zeros().min(e as u32);
+        (shifted(n, e - tz as i32), BigInt::from(d >> tz))
     } else {
-        let tz = n.trailing_zeros().unwrap_or(0).min((-e) as u64);
-        n >>= tz;
-        d <<= (-e) as u64 - tz;
-    }
+        let tz = n.trailing_zeros().min((-e) as u32);
+        (BigInt::from(n >> tz), shifted(d, -e - tz as i32))
+    };
     Rat::new_raw(n, d)
+}
+
+/// `v * 2^s` (`s >= 0`) as a big integer.
+fn shifted(v: i128, s: i32) -> BigInt {
+    match shl_exact(v, s) {
+        Some(k) => BigInt::from(k),
+        None => BigInt::from(v) << s as u32,
+    }
 }
 
 fn on_edge_i128(a: [f64; 3], b: [f64; 3], level: &Level) -> Option<Point2> {
@@ -150,55 +169,6 @@ fn on_edge_i128(a: [f64; 3], b: [f64; 3], level: &Level) -> Option<Point2> {
         x: reduced(x, w, e0),
         y: reduced(y, w, e0),
     })
-}
-
-/// Exact signed area of a closed polygon (shoelace): positive when
-/// counter-clockwise.
-///
-/// Fast path: the coordinates are brought to one common denominator (the
-/// lcm of theirs, usually small: crossings at one level share most of their
-/// denominators), so the sum runs on integers with a single reduction at
-/// the end. When that lcm grows past 4096 bits, the plain rational sum is
-/// used. Both are exact (property-tested).
-pub fn signed_area(points: &[Point2]) -> Rat {
-    signed_area_common_denominator(points).unwrap_or_else(|| signed_area_reference(points))
-}
-
-fn signed_area_common_denominator(points: &[Point2]) -> Option<Rat> {
-    let mut lcm = BigInt::one();
-    for p in points {
-        for r in [&p.x, &p.y] {
-            let d = r.denom();
-            if !(&lcm % d).is_zero() {
-                lcm = lcm.lcm(d);
-                if lcm.bits() > 4096 {
-                    return None;
-                }
-            }
-        }
-    }
-    let scale = |r: &Rat| r.numer() * (&lcm / r.denom());
-    let ints: Vec<(BigInt, BigInt)> = points.iter().map(|p| (scale(&p.x), scale(&p.y))).collect();
-    let n = ints.len();
-    let mut twice = BigInt::zero();
-    for i in 0..n {
-        let (x0, y0) = &ints[i];
-        let (x1, y1) = &ints[(i + 1) % n];
-        twice += x0 * y1 - x1 * y0;
-    }
-    Some(Rat::new(twice, &lcm * &lcm * BigInt::from(2)))
-}
-
-/// The shoelace with rational arithmetic throughout: the reference.
-pub fn signed_area_reference(points: &[Point2]) -> Rat {
-    let n = points.len();
-    let mut twice = Rat::zero();
-    for i in 0..n {
-        let p = &points[i];
-        let q = &points[(i + 1) % n];
-        twice += &p.x * &q.y - &q.x * &p.y;
-    }
-    twice / Rat::from_integer(2.into())
 }
 
 #[cfg(test)]
@@ -241,16 +211,14 @@ mod tests {
     }
 
     proptest::proptest! {
-        /// The common-denominator shoelace equals the rational one.
         #[test]
-        fn fast_area_equals_the_reference(
-            pts in proptest::collection::vec(((-1000i64..1000, 1i64..50), (-1000i64..1000, 1i64..50)), 0..12)
-        ) {
-            let poly: Vec<Point2> = pts
-                .iter()
-                .map(|&((a, b), (c, d))| Point2 { x: Rat::new(a.into(), b.into()), y: Rat::new(c.into(), d.into()) })
-                .collect();
-            proptest::prop_assert_eq!(signed_area(&poly), signed_area_reference(&poly));
+        fn binary_gcd_is_the_gcd(a in proptest::num::u128::ANY, b in proptest::num::u128::ANY, k in 0u32..64) {
+            let (a, b) = (a >> k, b >> (63 - k));
+            let (mut x, mut y) = (a, b);
+            while y != 0 {
+                (x, y) = (y, x % y);
+            }
+            proptest::prop_assert_eq!(gcd_u128(a, b), x);
         }
     }
 
@@ -279,16 +247,5 @@ mod tests {
             p,
             Point2::on_edge_reference([0.5, 0.25, 0.25], [1.5, -0.75, 0.75], &c)
         );
-    }
-
-    #[test]
-    fn square_area() {
-        let sq: Vec<Point2> = [[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]]
-            .iter()
-            .map(|p| Point2::of_vertex([p[0], p[1], 0.0]))
-            .collect();
-        assert_eq!(signed_area(&sq), Rat::from_integer(4.into()));
-        let rev: Vec<Point2> = sq.into_iter().rev().collect();
-        assert_eq!(signed_area(&rev), Rat::from_integer((-4).into()));
     }
 }

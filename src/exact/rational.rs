@@ -120,7 +120,34 @@ pub fn rat_to_string(r: &Rat) -> String {
 /// Non-finite inputs are rejected by validation before any exact arithmetic;
 /// here they map to zero so that no caller can panic.
 pub fn rat_from_f64(x: f64) -> Rat {
-    Rat::from_float(x).unwrap_or_else(Rat::zero)
+    // Built from the odd mantissa directly: already in lowest terms, so no
+    // gcd is taken.
+    match decompose(x) {
+        None => Rat::zero(),
+        Some((m, e)) if e >= 0 => Rat::from_integer(BigInt::from(m) << e as u32),
+        Some((m, e)) => Rat::new_raw(BigInt::from(m), BigInt::one() << (-e) as u32),
+    }
+}
+
+/// `x = mantissa * 2^exponent` with an odd mantissa (or `None` for zero or
+/// non-finite values).
+pub fn decompose(x: f64) -> Option<(i64, i32)> {
+    if x == 0.0 || !x.is_finite() {
+        return None;
+    }
+    let bits = x.to_bits();
+    let sign = if bits >> 63 == 1 { -1 } else { 1 };
+    let exp_bits = ((bits >> 52) & 0x7ff) as i32;
+    let frac = bits & ((1u64 << 52) - 1);
+    let (mut m, mut e) = if exp_bits == 0 {
+        (frac, -1074)
+    } else {
+        (frac | (1u64 << 52), exp_bits - 1075)
+    };
+    let tz = m.trailing_zeros();
+    m >>= tz;
+    e += tz as i32;
+    Some((sign * m as i64, e))
 }
 
 /// The `f64` nearest to `r` (ties to even): the only rounding step, used for
@@ -193,5 +220,19 @@ mod tests {
         }
         // 1/3 rounds to the nearest double.
         assert_eq!(rat_to_f64(&r(1, 3)), 1.0 / 3.0);
+    }
+
+    proptest::proptest! {
+        /// The direct construction equals num-rational's (reduced) one for
+        /// every finite double, subnormals included.
+        #[test]
+        fn from_f64_equals_from_float(bits in proptest::num::u64::ANY) {
+            let x = f64::from_bits(bits);
+            proptest::prop_assume!(x.is_finite());
+            let direct = rat_from_f64(x);
+            let reference = Rat::from_float(x).unwrap();
+            proptest::prop_assert_eq!(direct.numer(), reference.numer());
+            proptest::prop_assert_eq!(direct.denom(), reference.denom());
+        }
     }
 }

@@ -6,31 +6,10 @@
 //! integers are small (the usual case: integer, dyadic or snapped meshes)
 //! the sum runs in `i128`; otherwise in `BigInt`. Both are exact.
 
-use super::rational::Rat;
+use super::rational::{decompose, Rat};
 use crate::mesh::Mesh;
 use num_bigint::BigInt;
 use num_traits::Zero;
-
-/// `x = mantissa * 2^exponent` with an odd mantissa (or `None` for zero or
-/// non-finite values).
-pub fn decompose(x: f64) -> Option<(i64, i32)> {
-    if x == 0.0 || !x.is_finite() {
-        return None;
-    }
-    let bits = x.to_bits();
-    let sign = if bits >> 63 == 1 { -1 } else { 1 };
-    let exp_bits = ((bits >> 52) & 0x7ff) as i32;
-    let frac = bits & ((1u64 << 52) - 1);
-    let (mut m, mut e) = if exp_bits == 0 {
-        (frac, -1074)
-    } else {
-        (frac | (1u64 << 52), exp_bits - 1075)
-    };
-    let tz = m.trailing_zeros();
-    m >>= tz;
-    e += tz as i32;
-    Some((sign * m as i64, e))
-}
 
 /// The smallest exponent `e0` such that every coordinate is an integer
 /// multiple of `2^e0`, and the largest such integer's bit length.

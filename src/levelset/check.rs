@@ -4,9 +4,9 @@
 //! [`same_structure`]). Shared by tests and fuzz targets; exact throughout.
 //! The crossing test is quadratic: meant for test-sized meshes.
 
-use super::{LevelSet, Loop, Slicer};
+use super::{total_area, LevelSet, Loop, Slicer};
 use crate::classify::vertex_signs;
-use crate::exact::point::signed_area;
+use crate::exact::area::signed_area;
 use crate::exact::predicates::orient2d_rat;
 use crate::exact::rational::{rat_from_f64, rat_to_string, Rat};
 use crate::exact::{Level, Point2, Sign};
@@ -102,20 +102,27 @@ pub fn check_level_invariants(mesh: &Mesh, topo: &Topology, ls: &LevelSet) -> Re
                     ));
                 }
             }
-            if signed_area(&l.points) != l.area {
+            let area = signed_area(&l.points);
+            if Sign::of_rat(&area) != l.orientation {
                 return Err(format!(
-                    "{name} loop {i}: stored area is not the exact area"
+                    "{name} loop {i}: stored orientation is not the exact area's sign"
+                ));
+            }
+            if Sign::of_rat(&rat_from_f64(l.area_approx)) != l.orientation {
+                return Err(format!(
+                    "{name} loop {i}: rounded area {} has the wrong sign",
+                    l.area_approx
                 ));
             }
             let ok = match l.role {
-                Role::Outer => l.area.is_positive(),
-                Role::Hole => l.area.is_negative(),
+                Role::Outer => area.is_positive(),
+                Role::Hole => area.is_negative(),
             };
             if !ok {
                 return Err(format!(
                     "{name} loop {i}: {:?} with area {}",
                     l.role,
-                    rat_to_string(&l.area)
+                    rat_to_string(&area)
                 ));
             }
         }
@@ -124,7 +131,7 @@ pub fn check_level_invariants(mesh: &Mesh, topo: &Topology, ls: &LevelSet) -> Re
         no_crossing(loops, name != "S_O").map_err(|e| format!("{name}: {e}"))?;
     }
     for (r, region) in ls.regions.iter().enumerate() {
-        let total: Rat = region.boundary.iter().fold(Rat::zero(), |a, l| a + &l.area);
+        let total = total_area(&region.boundary);
         // dF follows the faces: its signed area is the region's signed area.
         let expect = match region.facing {
             crate::classify::Facing::Up => region.area.clone(),
@@ -313,10 +320,6 @@ pub fn vertex_heights(mesh: &Mesh) -> Vec<Rat> {
     zs.into_iter().map(rat_from_f64).collect()
 }
 
-fn area(loops: &[Loop]) -> Rat {
-    loops.iter().fold(Rat::zero(), |a, l| a + &l.area)
-}
-
 /// Invariant 6: Simpson's rule on the cross-section areas (L+ at the bottom
 /// of each interval between consecutive vertex heights, L- at its top, S_O
 /// area at the midpoint) sums exactly to the mesh volume. Also checks that
@@ -332,13 +335,14 @@ pub fn check_volume_identity(slicer: &Slicer<'_>, volume: &Rat) -> Result<(), St
         if let Some((z0, a0)) = prev {
             let mid = (&z0 + z) / &two;
             let m = slicer.slice_at(&mid).map_err(|e| e.to_string())?;
-            let am = area(&m.contours);
-            if area(&m.below) != am || area(&m.above) != am {
+            let am = total_area(&m.contours);
+            if total_area(&m.below) != am || total_area(&m.above) != am {
                 return Err(format!("at regular level {mid}: L-, S_O, L+ areas differ"));
             }
-            total += (z - &z0) / &six * (a0 + am * Rat::from_integer(4.into()) + area(&ls.below));
+            total +=
+                (z - &z0) / &six * (a0 + am * Rat::from_integer(4.into()) + total_area(&ls.below));
         }
-        prev = Some((z.clone(), area(&ls.above)));
+        prev = Some((z.clone(), total_area(&ls.above)));
     }
     if &total != volume {
         return Err(format!(

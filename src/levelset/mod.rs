@@ -14,16 +14,17 @@ use crate::classify::{
     edges::classify_edges, faces::face_regions, vertices::extremum_kind, EdgeClass, ExtremumKind,
     Facing, RidgeKind, Side, Signs,
 };
-use crate::exact::point::signed_area;
-use crate::exact::rational::Rat;
+use crate::exact::area::{signed_area, total_signed_area};
+use crate::exact::filter::{signed_area_filtered, FilteredPoint};
+use crate::exact::rational::{rat_to_f64, Rat};
 use crate::exact::{Level, Point2, Sign};
 use crate::ids::{EdgeId, FaceId, VertexId};
 use crate::mesh::topology::Topology;
 use crate::mesh::validate::{validate, Report};
 use crate::mesh::Mesh;
-use crate::nest::{nest, Role};
+use crate::nest::{nest_filtered, Role};
 use crate::segment::{edge_segments, face_segment, CutPoint, Segment, Via};
-use num_traits::{One, Signed, Zero};
+use num_traits::One;
 use rustc_hash::FxHashMap as HashMap;
 
 /// A closed, oriented loop with exact points.
@@ -33,12 +34,43 @@ pub struct Loop {
     pub cuts: Vec<CutPoint>,
     /// Exact points, in the mesh's units.
     pub points: Vec<Point2>,
-    /// Exact signed area (positive when counter-clockwise).
-    pub area: Rat,
+    /// The exact sign of the signed area: positive when counter-clockwise.
+    pub orientation: Sign,
+    /// The signed area, rounded: the midpoint of a certified interval
+    /// enclosure (of the exact sign), or the nearest double of the exact
+    /// area when the enclosure could not decide the sign. The exact area
+    /// is [`Loop::area`].
+    pub area_approx: f64,
     /// Outer or hole, from the nesting depth in its family.
     pub role: Role,
     /// Index of the smallest enclosing loop of the same family.
     pub parent: Option<usize>,
+}
+
+impl Loop {
+    /// The exact signed area (positive when counter-clockwise). Computed
+    /// on each call, in time near-linear in the size of the result.
+    pub fn area(&self) -> Rat {
+        signed_area(&self.points)
+    }
+}
+
+/// The exact total signed area of a family of loops (the area they
+/// enclose, holes counted negative).
+pub fn total_area(loops: &[Loop]) -> Rat {
+    total_signed_area(loops.iter().map(|l| l.points.as_slice()))
+}
+
+/// The exact sign of a polygon's area and its rounded value.
+fn orientation_of(filtered: &[FilteredPoint<'_>], points: &[Point2]) -> (Sign, f64) {
+    let estimate = signed_area_filtered(filtered);
+    match estimate.sign {
+        Some(sign) => (sign, estimate.approx),
+        None => {
+            let exact = signed_area(points);
+            (Sign::of_rat(&exact), rat_to_f64(&exact))
+        }
+    }
 }
 
 /// A face region F with its boundary loops dF.
@@ -137,7 +169,7 @@ pub enum SliceError {
 /// let slicer = Slicer::new(&mesh).unwrap();
 /// let ls = slicer.slice_at(&parse_rational("1/2").unwrap()).unwrap();
 /// assert_eq!(ls.contours.len(), 1);
-/// assert_eq!(ls.contours[0].area, parse_rational("1").unwrap());
+/// assert_eq!(ls.contours[0].area(), parse_rational("1").unwrap());
 /// // At the top face: one up-facing region, no contour.
 /// let top = slicer.slice_at(&parse_rational("1").unwrap()).unwrap();
 /// assert!(top.contours.is_empty());
@@ -211,7 +243,10 @@ impl<'m> Slicer<'m> {
                 for p in &mut l.points {
                     *p = p.scaled(u);
                 }
-                l.area *= &u2;
+                // The sign is unchanged (u^2 > 0); the rounding is redone.
+                let filtered: Vec<FilteredPoint<'_>> =
+                    l.points.iter().map(FilteredPoint::new).collect();
+                l.area_approx = orientation_of(&filtered, &l.points).1;
             };
             ls.contours.iter_mut().for_each(scale);
             ls.below.iter_mut().for_each(scale);
@@ -463,7 +498,7 @@ impl<'a> LevelBuilder<'a> {
         self.loops_with(segments, point, false)
     }
 
-    /// Chains, computes exact points and areas, and nests.
+    /// Chains, computes exact points, decides orientations and nests.
     fn loops_with(
         &self,
         segments: &[Segment],
@@ -471,34 +506,53 @@ impl<'a> LevelBuilder<'a> {
         drop_collapsed: bool,
     ) -> Result<Vec<Loop>, SliceError> {
         let chains = chain_loops(self.topo, segments)?;
-        let mut loops = Vec::with_capacity(chains.len());
-        for ch in chains {
-            let cuts: Vec<CutPoint> = ch.iter().map(|&i| segments[i].from).collect();
-            let points: Vec<Point2> = cuts.iter().map(|&c| point(c)).collect();
-            let area = signed_area(&points);
-            if drop_collapsed && area.is_zero() {
+        let mut shapes: Vec<(Vec<CutPoint>, Vec<Point2>)> = chains
+            .iter()
+            .map(|ch| {
+                let cuts: Vec<CutPoint> = ch.iter().map(|&i| segments[i].from).collect();
+                let points = cuts.iter().map(|&c| point(c)).collect();
+                (cuts, points)
+            })
+            .collect();
+        let filtered: Vec<Vec<FilteredPoint<'_>>> = shapes
+            .iter()
+            .map(|(_, pts)| pts.iter().map(FilteredPoint::new).collect())
+            .collect();
+        let orientations: Vec<(Sign, f64)> = filtered
+            .iter()
+            .zip(&shapes)
+            .map(|(f, (_, pts))| orientation_of(f, pts))
+            .collect();
+        let keep: Vec<bool> = orientations
+            .iter()
+            .map(|&(sign, _)| !(drop_collapsed && sign == Sign::Zero))
+            .collect();
+        let kept: Vec<Vec<FilteredPoint<'_>>> = filtered
+            .into_iter()
+            .zip(&keep)
+            .filter_map(|(f, &k)| k.then_some(f))
+            .collect();
+        let nesting = nest_filtered(&kept);
+        drop(kept);
+        let mut nesting = nesting.into_iter();
+        let mut loops = Vec::with_capacity(nesting.len());
+        for (((cuts, points), (orientation, area_approx)), k) in
+            shapes.drain(..).zip(orientations).zip(keep)
+        {
+            if !k {
                 continue;
             }
+            let n = nesting.next().expect("one nesting per kept loop");
             loops.push(Loop {
                 cuts,
                 points,
-                area,
-                role: Role::Outer,
-                parent: None,
+                orientation,
+                area_approx,
+                role: n.role,
+                parent: n.parent,
             });
         }
-        renest(&mut loops);
         Ok(loops)
-    }
-}
-
-/// Sets roles and parents of a family of loops.
-fn renest(loops: &mut [Loop]) {
-    let polys: Vec<&[Point2]> = loops.iter().map(|l| l.points.as_slice()).collect();
-    let nesting = nest(&polys);
-    for (l, n) in loops.iter_mut().zip(nesting) {
-        l.role = n.role;
-        l.parent = n.parent;
     }
 }
 
@@ -508,15 +562,16 @@ fn check_orientation(ls: &LevelSet) -> Result<(), SliceError> {
     for (name, family) in [("S_O", &ls.contours), ("L-", &ls.below), ("L+", &ls.above)] {
         for (i, l) in family.iter().enumerate() {
             let ok = match l.role {
-                Role::Outer => l.area.is_positive(),
-                Role::Hole => l.area.is_negative(),
+                Role::Outer => l.orientation == Sign::Positive,
+                Role::Hole => l.orientation == Sign::Negative,
             };
             if !ok {
                 return Err(SliceError::Invariant {
                     level: crate::exact::rational::rat_to_string(&ls.level),
                     what: format!(
                         "{name} loop {i} is {:?} but its exact area is {}",
-                        l.role, l.area
+                        l.role,
+                        l.area()
                     ),
                 });
             }

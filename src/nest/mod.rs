@@ -113,16 +113,21 @@ fn bbox(poly: &[FilteredPoint<'_>]) -> Bbox {
 
 /// Nests a family of loops. `loops[i]` is the exact polygon of loop `i`.
 pub fn nest<P: AsRef<[Point2]>>(loops: &[P]) -> Vec<Nesting> {
-    let n = loops.len();
-    if n == 0 {
-        return Vec::new();
-    }
     let filtered: Vec<Vec<FilteredPoint<'_>>> = loops
         .iter()
         .map(|l| l.as_ref().iter().map(FilteredPoint::new).collect())
         .collect();
+    nest_filtered(&filtered)
+}
+
+/// [`nest`] for loops whose points are already enclosed.
+pub fn nest_filtered(filtered: &[Vec<FilteredPoint<'_>>]) -> Vec<Nesting> {
+    let n = filtered.len();
+    if n == 0 {
+        return Vec::new();
+    }
     let mut segments: HashSet<(Key, Key)> = HashSet::default();
-    for l in &filtered {
+    for l in filtered {
         for i in 0..l.len() {
             segments.insert((l[i].key(), l[(i + 1) % l.len()].key()));
         }

@@ -26,10 +26,9 @@
 
 use super::svg::{drawing, style, xml_escape, Scene, SvgOptions};
 use crate::classify::{ExtremumKind, Facing, RidgeKind};
-use crate::exact::rational::{rat_to_f64, rat_to_string, Rat};
-use crate::levelset::{LevelSet, Loop};
+use crate::exact::rational::{rat_to_f64, rat_to_string};
+use crate::levelset::{total_area, LevelSet, Loop};
 use crate::nest::Role;
-use num_traits::Zero;
 use serde::Serialize;
 
 /// One layer of the viewer.
@@ -100,7 +99,7 @@ pub struct Counts {
 
 fn roles(loops: &[Loop]) -> (usize, usize, String) {
     let outer = loops.iter().filter(|l| l.role == Role::Outer).count();
-    let area = loops.iter().fold(Rat::zero(), |a, l| a + &l.area);
+    let area = total_area(loops);
     (outer, loops.len() - outer, rat_to_string(&area))
 }
 

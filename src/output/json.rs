@@ -141,8 +141,14 @@ fn exact_xy(p: &Point2) -> [String; 2] {
     [rat_to_string(&p.x), rat_to_string(&p.y)]
 }
 
+/// With exact output, `area` is the nearest double of `area_exact`
+/// (computed anyway); without, the loop's certified rounding
+/// ([`Loop::area_approx`]: of the exact sign, off by at most about one
+/// ulp of the shoelace terms per point), so the exact area is never
+/// computed.
 fn json_loop(l: &Loop, ex: Exactness) -> JsonLoop {
     let with = ex == Exactness::WithExact;
+    let exact_area = with.then(|| l.area());
     JsonLoop {
         points: l.points.iter().map(Point2::to_f64).collect(),
         exact: with.then(|| l.points.iter().map(exact_xy).collect()),
@@ -155,8 +161,8 @@ fn json_loop(l: &Loop, ex: Exactness) -> JsonLoop {
                 })
                 .collect()
         }),
-        area: rat_to_f64(&l.area),
-        area_exact: with.then(|| rat_to_string(&l.area)),
+        area: exact_area.as_ref().map_or(l.area_approx, rat_to_f64),
+        area_exact: exact_area.as_ref().map(rat_to_string),
         role: l.role,
         parent: l.parent,
     }

@@ -3,14 +3,9 @@
 
 use crate::classify::{ExtremumKind, Facing, RidgeKind};
 use crate::exact::rational::{rat_to_f64, rat_to_string, Rat};
-use crate::levelset::{LevelSet, Loop};
+use crate::levelset::{total_area, LevelSet, Loop};
 use crate::nest::Role;
-use num_traits::Zero;
 use std::fmt::Write;
-
-fn total_area(loops: &[Loop]) -> Rat {
-    loops.iter().fold(Rat::zero(), |a, l| a + &l.area)
-}
 
 fn area_text(a: &Rat) -> String {
     format!("{} (~{})", rat_to_string(a), rat_to_f64(a))

@@ -355,7 +355,7 @@ pub fn drawing(ls: &LevelSet, scene: &Scene, opts: &SvgOptions) -> Drawing {
                 s,
                 r#"<path class="df {}" data-area="{}" d="{d}"/>"#,
                 role_class(l.role),
-                rat_to_string(&l.area)
+                rat_to_string(&l.area())
             );
             if opts.arrows {
                 arrows(&mut s, &pts, arrow, "on-df");
@@ -392,7 +392,7 @@ pub fn drawing(ls: &LevelSet, scene: &Scene, opts: &SvgOptions) -> Drawing {
         let _ = writeln!(
             s,
             r#"<path class="so outer" fill-rule="evenodd" data-area="{}" d="{d}"/>"#,
-            rat_to_string(&l.area)
+            rat_to_string(&l.area())
         );
     }
     for l in ls.contours.iter().filter(|l| l.role == Role::Hole) {
@@ -401,7 +401,7 @@ pub fn drawing(ls: &LevelSet, scene: &Scene, opts: &SvgOptions) -> Drawing {
         let _ = writeln!(
             s,
             r#"<path class="so hole" data-area="{}" d="{d}"/>"#,
-            rat_to_string(&l.area)
+            rat_to_string(&l.area())
         );
     }
     if opts.arrows {
@@ -486,7 +486,7 @@ fn loops_as_paths(s: &mut String, class: &str, loops: &[Loop]) {
             s,
             r#"<path class="{class} {}" data-area="{}" d="{d}"/>"#,
             role_class(l.role),
-            rat_to_string(&l.area)
+            rat_to_string(&l.area())
         );
     }
 }

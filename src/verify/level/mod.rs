@@ -9,7 +9,7 @@
 mod kinds;
 mod regions;
 
-use crate::exact::point::signed_area;
+use crate::exact::area::signed_area;
 use crate::exact::rational::{parse_rational, rat_to_f64, rat_to_string, Rat};
 use crate::exact::{Level, Point2, Sign};
 use crate::mesh::topology::Topology;

@@ -1,0 +1,314 @@
+//! Input: a closed polygon of exact rational points. Output: its exact
+//! signed area (shoelace), or a certified enclosure of it.
+//!
+//! Crossings at one level usually have distinct denominators (one per
+//! edge), so the exact area of a loop of `n` points has a denominator of
+//! about `n` times their size. Adding the `n` shoelace terms one by one
+//! (each addition reducing by a big gcd) is quadratic in that size, which
+//! made large loops cost seconds; here the terms are summed on a balanced
+//! tree of unreduced fractions sharing neighbours' denominators, and the
+//! result is reduced by the (small) point denominators one at a time, never
+//! by a big gcd.
+
+use super::point::Point2;
+use super::rational::{decompose, Rat};
+use num_bigint::{BigInt, BigUint};
+use num_integer::Integer;
+use num_traits::{One, Signed, Zero};
+
+/// A point as integers over one denominator: `(X / D, Y / D)`, `D > 0`.
+struct Homogeneous {
+    x: BigInt,
+    y: BigInt,
+    d: BigInt,
+}
+
+impl Homogeneous {
+    fn of(p: &Point2) -> Self {
+        let (dx, dy) = (p.x.denom(), p.y.denom());
+        if dx == dy {
+            return Homogeneous {
+                x: p.x.numer().clone(),
+                y: p.y.numer().clone(),
+                d: dx.clone(),
+            };
+        }
+        let d = dx.lcm(dy);
+        Homogeneous {
+            x: p.x.numer() * (&d / dx),
+            y: p.y.numer() * (&d / dy),
+            d,
+        }
+    }
+}
+
+/// Exact signed area of a closed polygon (shoelace): positive when
+/// counter-clockwise. Exact for any rational points; equal to
+/// [`signed_area_reference`] (property-tested).
+pub fn signed_area(points: &[Point2]) -> Rat {
+    total_signed_area([points])
+}
+
+/// The exact sum of the signed areas of closed polygons (the area a
+/// family of nested loops encloses), reduced once at the end.
+pub fn total_signed_area<'a>(polygons: impl IntoIterator<Item = &'a [Point2]>) -> Rat {
+    let mut parts: Vec<(BigInt, BigInt)> = Vec::new();
+    let mut factors: Vec<BigUint> = vec![BigUint::from(2u8)];
+    for points in polygons {
+        let n = points.len();
+        if n < 3 {
+            // Two points bound nothing: the two terms cancel.
+            continue;
+        }
+        let h: Vec<Homogeneous> = points.iter().map(Homogeneous::of).collect();
+        // Twice the area of the open chain 0..n-1, over the product of all D.
+        let (chain, product) = chain_sum(&h, 0, n - 1);
+        let (first, last) = (&h[0], &h[n - 1]);
+        let closing = &last.x * &first.y - &first.x * &last.y;
+        parts.push((chain + closing * (&product / (&first.d * &last.d)), product));
+        factors.extend(h.iter().map(|p| p.d.magnitude().clone()));
+    }
+    let Some((twice, product)) = sum_fractions(parts) else {
+        return Rat::zero();
+    };
+    if twice.is_zero() {
+        return Rat::zero();
+    }
+    lowest_terms(twice, product * 2, factors)
+}
+
+/// The sum of fractions `a / p` (`p > 0`) as one unreduced fraction over
+/// the product of the `p`, added on a balanced tree.
+fn sum_fractions(mut parts: Vec<(BigInt, BigInt)>) -> Option<(BigInt, BigInt)> {
+    while parts.len() > 1 {
+        let mut next = Vec::with_capacity(parts.len().div_ceil(2));
+        let mut it = parts.into_iter();
+        while let Some((a1, p1)) = it.next() {
+            next.push(match it.next() {
+                Some((a2, p2)) => (a1 * &p2 + a2 * &p1, p1 * p2),
+                None => (a1, p1),
+            });
+        }
+        parts = next;
+    }
+    parts.pop()
+}
+
+/// `(A, P)` with `A / P` the sum of the shoelace terms of consecutive
+/// points `l..=r` (`r > l`) and `P` the product of their denominators:
+/// neighbouring halves share the middle point's denominator, so nothing
+/// is ever multiplied in twice.
+fn chain_sum(h: &[Homogeneous], l: usize, r: usize) -> (BigInt, BigInt) {
+    if r == l + 1 {
+        let (a, b) = (&h[l], &h[r]);
+        return (&a.x * &b.y - &b.x * &a.y, &a.d * &b.d);
+    }
+    let m = (l + r) / 2;
+    let (a1, p1) = chain_sum(h, l, m);
+    let (a2, p2) = chain_sum(h, m, r);
+    let dm = &h[m].d;
+    let (q1, q2) = (&p1 / dm, &p2 / dm);
+    (a1 * &q2 + a2 * q1, p1 * q2)
+}
+
+/// `num / den` in lowest terms, where `den` is the product of `factors`
+/// (small numbers): the common part is removed factor by factor, each
+/// step a division by a small number, so no gcd of two big numbers is
+/// ever taken. Afterwards every factor is coprime to the numerator, hence
+/// so is their product.
+fn lowest_terms(num: BigInt, den: BigInt, factors: Vec<BigUint>) -> Rat {
+    let negative = num.is_negative();
+    let (mut num, mut den) = (num.into_parts().1, den.into_parts().1);
+    for mut f in factors {
+        while !f.is_one() {
+            let g = (&num % &f).gcd(&f);
+            if g.is_one() {
+                break;
+            }
+            num /= &g;
+            den /= &g;
+            f /= &g;
+        }
+    }
+    let num = BigInt::from(num);
+    Rat::new_raw(if negative { -num } else { num }, BigInt::from(den))
+}
+
+/// Twice the signed area of the `(x, y)` projection of a triangle with
+/// double coordinates, exactly, as `m * 2^e` (doubles are dyadic, so the
+/// area is too). In `i128` when the six coordinates span at most 61 bits
+/// of one binary grid, else in `BigInt`.
+pub fn twice_area_xy(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> Dyadic {
+    let coords = [a[0], a[1], b[0], b[1], c[0], c[1]].map(decompose);
+    let e0 = coords.iter().flatten().map(|&(_, e)| e).min().unwrap_or(0);
+    let det = |k: [BigInt; 6]| {
+        let [ax, ay, bx, by, cx, cy] = k;
+        (&bx - &ax) * (&cy - &ay) - (&by - &ay) * (&cx - &ax)
+    };
+    let small: Option<Vec<i128>> = coords
+        .iter()
+        .map(|p| match *p {
+            None => Some(0),
+            Some((m, e)) => {
+                let s = u32::try_from(e - e0).ok().filter(|&s| s < 64)?;
+                let k = i128::from(m) << s;
+                (k.unsigned_abs() < 1 << 61).then_some(k)
+            }
+        })
+        .collect();
+    let m = match small {
+        // Differences below 2^62, products below 2^124: no overflow.
+        Some(k) => BigInt::from((k[2] - k[0]) * (k[5] - k[1]) - (k[3] - k[1]) * (k[4] - k[0])),
+        None => det(coords
+            .map(|p| p.map_or_else(BigInt::zero, |(m, e)| BigInt::from(m) << (e - e0) as u32))),
+    };
+    Dyadic { m, e: 2 * e0 }
+}
+
+/// An exact dyadic rational `m * 2^e`.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Dyadic {
+    m: BigInt,
+    e: i32,
+}
+
+impl Dyadic {
+    /// Adds `|x|` exactly.
+    pub fn add_abs(&mut self, x: &Dyadic) {
+        if x.m.is_zero() {
+            return;
+        }
+        if self.m.is_zero() {
+            self.m = x.m.abs();
+            self.e = x.e;
+            return;
+        }
+        if x.e < self.e {
+            self.m <<= (self.e - x.e) as u32;
+            self.e = x.e;
+        }
+        self.m += x.m.abs() << (x.e - self.e) as u32;
+    }
+
+    /// The value as a rational in lowest terms, times `2^shift`.
+    pub fn to_rat_times_pow2(&self, shift: i32) -> Rat {
+        if self.m.is_zero() {
+            return Rat::zero();
+        }
+        let e = self.e + shift;
+        let m = self.m.clone();
+        if e >= 0 {
+            Rat::from_integer(m << e as u32)
+        } else {
+            // Cancel the powers of two the mantissa holds.
+            let tz = m.trailing_zeros().unwrap_or(0).min((-e) as u64);
+            Rat::new_raw(m >> tz, BigInt::one() << ((-e) as u64 - tz))
+        }
+    }
+}
+
+/// The shoelace with rational arithmetic throughout: the reference.
+pub fn signed_area_reference(points: &[Point2]) -> Rat {
+    let n = points.len();
+    let mut twice = Rat::zero();
+    for i in 0..n {
+        let p = &points[i];
+        let q = &points[(i + 1) % n];
+        twice += &p.x * &q.y - &q.x * &p.y;
+    }
+    twice / Rat::from_integer(2.into())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `((p, q), (r, s))` is the point `(p/q, r/s)`.
+    type Frac2 = ((i64, i64), (i64, i64));
+
+    fn poly(pts: &[Frac2]) -> Vec<Point2> {
+        pts.iter()
+            .map(|&((a, b), (c, d))| Point2 {
+                x: Rat::new(a.into(), b.into()),
+                y: Rat::new(c.into(), d.into()),
+            })
+            .collect()
+    }
+
+    proptest::proptest! {
+        /// The tree sum with small-factor reduction equals the rational
+        /// shoelace, in lowest terms (shared, repeated and coprime
+        /// denominators; zero areas).
+        #[test]
+        fn tree_area_equals_the_reference(
+            pts in proptest::collection::vec(((-1000i64..1000, 1i64..60), (-1000i64..1000, 1i64..60)), 0..40)
+        ) {
+            let poly = poly(&pts);
+            let fast = signed_area(&poly);
+            let reference = signed_area_reference(&poly);
+            proptest::prop_assert_eq!(fast.numer(), reference.numer());
+            proptest::prop_assert_eq!(fast.denom(), reference.denom());
+        }
+    }
+
+    proptest::proptest! {
+        /// The total of several polygons equals the sum of their areas.
+        #[test]
+        fn total_area_is_the_sum(
+            a in proptest::collection::vec(((-99i64..99, 1i64..30), (-99i64..99, 1i64..30)), 0..12),
+            b in proptest::collection::vec(((-99i64..99, 1i64..30), (-99i64..99, 1i64..30)), 0..12),
+        ) {
+            let (a, b) = (poly(&a), poly(&b));
+            let total = total_signed_area([a.as_slice(), b.as_slice()]);
+            proptest::prop_assert_eq!(total, signed_area_reference(&a) + signed_area_reference(&b));
+        }
+    }
+
+    proptest::proptest! {
+        /// The dyadic triangle area equals the rational one, for grid,
+        /// decimal and wildly scaled coordinates.
+        #[test]
+        fn dyadic_triangle_area_is_exact(
+            v in proptest::array::uniform6(-10_000i32..10_000),
+            scale in proptest::array::uniform3(-60i32..60),
+            decimal in proptest::bool::ANY,
+        ) {
+            let f = |i: usize| {
+                let x = f64::from(v[i]);
+                if decimal { x * 0.1 } else { x * 2f64.powi(scale[i / 2]) }
+            };
+            let (a, b, c) = ([f(0), f(1), 0.0], [f(2), f(3), 0.0], [f(4), f(5), 0.0]);
+            let pts: Vec<Point2> = [a, b, c].iter().map(|p| Point2::of_vertex(*p)).collect();
+            let expect = signed_area_reference(&pts).abs() * Rat::from_integer(2.into());
+            let mut sum = Dyadic::default();
+            sum.add_abs(&twice_area_xy(a, b, c));
+            proptest::prop_assert_eq!(sum.to_rat_times_pow2(0), expect.clone());
+            sum.add_abs(&twice_area_xy(c, b, a));
+            proptest::prop_assert_eq!(sum.to_rat_times_pow2(-1), expect);
+        }
+    }
+
+    #[test]
+    fn square_area_and_orientation() {
+        let sq = poly(&[
+            ((0, 1), (0, 1)),
+            ((2, 1), (0, 1)),
+            ((2, 1), (2, 1)),
+            ((0, 1), (2, 1)),
+        ]);
+        assert_eq!(signed_area(&sq), Rat::from_integer(4.into()));
+        let rev: Vec<Point2> = sq.into_iter().rev().collect();
+        assert_eq!(signed_area(&rev), Rat::from_integer((-4).into()));
+    }
+
+    #[test]
+    fn repeated_factors_cancel_completely() {
+        // Triangle (0,0), (1/3,0), (0,1/3): area 1/18; the denominators 3
+        // appear in several points and must all cancel against the numerator.
+        let t = poly(&[((0, 1), (0, 1)), ((1, 3), (0, 1)), ((0, 1), (1, 3))]);
+        assert_eq!(signed_area(&t), Rat::new(1.into(), 18.into()));
+        // A degenerate (collinear) polygon with big denominators is zero.
+        let line = poly(&[((1, 7), (1, 7)), ((2, 9), (2, 9)), ((5, 11), (5, 11))]);
+        assert!(signed_area(&line).is_zero());
+    }
+}
