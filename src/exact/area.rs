@@ -11,7 +11,7 @@
 //! by a big gcd.
 
 use super::point::Point2;
-use super::rational::{decompose, Rat};
+use super::rational::{decompose, rat_to_f64, Rat};
 use num_bigint::{BigInt, BigUint};
 use num_integer::Integer;
 use num_traits::{One, Signed, Zero};
@@ -52,29 +52,65 @@ pub fn signed_area(points: &[Point2]) -> Rat {
 /// The exact sum of the signed areas of closed polygons (the area a
 /// family of nested loops encloses), reduced once at the end.
 pub fn total_signed_area<'a>(polygons: impl IntoIterator<Item = &'a [Point2]>) -> Rat {
-    let mut parts: Vec<(BigInt, BigInt)> = Vec::new();
-    let mut factors: Vec<BigUint> = vec![BigUint::from(2u8)];
-    for points in polygons {
-        let n = points.len();
-        if n < 3 {
-            // Two points bound nothing: the two terms cancel.
-            continue;
+    AreaSum::of(polygons).reduce()
+}
+
+/// An exact signed area held as an unreduced fraction: rounding it is
+/// cheap (near-linear), reducing it to lowest terms costs about the
+/// number of points times the size of the denominator.
+#[derive(Clone, Debug)]
+pub struct AreaSum {
+    twice: BigInt,
+    product: BigInt,
+    factors: Vec<BigUint>,
+}
+
+impl AreaSum {
+    /// The summed signed area of closed polygons.
+    pub fn of<'a>(polygons: impl IntoIterator<Item = &'a [Point2]>) -> AreaSum {
+        let mut parts: Vec<(BigInt, BigInt)> = Vec::new();
+        let mut factors: Vec<BigUint> = vec![BigUint::from(2u8)];
+        for points in polygons {
+            let n = points.len();
+            if n < 3 {
+                // Two points bound nothing: the two terms cancel.
+                continue;
+            }
+            let h: Vec<Homogeneous> = points.iter().map(Homogeneous::of).collect();
+            // Twice the area of the open chain 0..n-1, over the product of all D.
+            let (chain, product) = chain_sum(&h, 0, n - 1);
+            let (first, last) = (&h[0], &h[n - 1]);
+            let closing = &last.x * &first.y - &first.x * &last.y;
+            parts.push((chain + closing * (&product / (&first.d * &last.d)), product));
+            factors.extend(h.iter().map(|p| p.d.magnitude().clone()));
         }
-        let h: Vec<Homogeneous> = points.iter().map(Homogeneous::of).collect();
-        // Twice the area of the open chain 0..n-1, over the product of all D.
-        let (chain, product) = chain_sum(&h, 0, n - 1);
-        let (first, last) = (&h[0], &h[n - 1]);
-        let closing = &last.x * &first.y - &first.x * &last.y;
-        parts.push((chain + closing * (&product / (&first.d * &last.d)), product));
-        factors.extend(h.iter().map(|p| p.d.magnitude().clone()));
+        let (twice, product) =
+            sum_fractions(parts).unwrap_or_else(|| (BigInt::zero(), BigInt::one()));
+        AreaSum {
+            twice,
+            product,
+            factors,
+        }
     }
-    let Some((twice, product)) = sum_fractions(parts) else {
-        return Rat::zero();
-    };
-    if twice.is_zero() {
-        return Rat::zero();
+
+    /// The nearest double of the exact area.
+    pub fn to_f64(&self) -> f64 {
+        rat_to_f64(&Rat::new_raw(self.twice.clone(), &self.product * 2))
     }
-    lowest_terms(twice, product * 2, factors)
+
+    /// Bits of the unreduced denominator: an upper bound on the reduced
+    /// one's, and what [`AreaSum::reduce`] costs grows with.
+    pub fn denominator_bits(&self) -> u64 {
+        self.product.bits() + 1
+    }
+
+    /// The exact area in lowest terms.
+    pub fn reduce(self) -> Rat {
+        if self.twice.is_zero() {
+            return Rat::zero();
+        }
+        lowest_terms(self.twice, self.product * 2, self.factors)
+    }
 }
 
 /// The sum of fractions `a / p` (`p > 0`) as one unreduced fraction over
@@ -260,7 +296,10 @@ mod tests {
         ) {
             let (a, b) = (poly(&a), poly(&b));
             let total = total_signed_area([a.as_slice(), b.as_slice()]);
-            proptest::prop_assert_eq!(total, signed_area_reference(&a) + signed_area_reference(&b));
+            let expect = signed_area_reference(&a) + signed_area_reference(&b);
+            // Rounding the unreduced fraction gives the nearest double.
+            proptest::prop_assert_eq!(AreaSum::of([a.as_slice(), b.as_slice()]).to_f64(), rat_to_f64(&expect));
+            proptest::prop_assert_eq!(total, expect);
         }
     }
 

@@ -88,24 +88,21 @@ fn common_ints<const N: usize>(xs: [f64; N]) -> Option<([i128; N], i32)> {
     Some((out, e0))
 }
 
-/// Binary gcd (shifts and subtractions: `u128` division is a slow
-/// library call).
-fn gcd_u128(a: u128, b: u128) -> u128 {
-    if a == 0 || b == 0 {
-        return a | b;
+/// Euclid's gcd: `u128` steps until both numbers fit in `u64` (`u128`
+/// division is a slow library call), then hardware `u64` steps.
+fn gcd_u128(mut a: u128, mut b: u128) -> u128 {
+    let wide = u128::from(u64::MAX);
+    while b != 0 && (a > wide || b > wide) {
+        (a, b) = (b, a % b);
     }
-    let shift = (a | b).trailing_zeros();
-    let (mut a, mut b) = (a >> a.trailing_zeros(), b);
-    loop {
-        b >>= b.trailing_zeros();
-        if a > b {
-            std::mem::swap(&mut a, &mut b);
-        }
-        b -= a;
-        if b == 0 {
-            return a << shift;
-        }
+    if b == 0 {
+        return a;
     }
+    let (mut a, mut b) = (a as u64, b as u64);
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    u128::from(a)
 }
 
 /// `v * 2^s`, or `None` if any bit would be lost.
@@ -219,6 +216,8 @@ mod tests {
                 (x, y) = (y, x % y);
             }
             proptest::prop_assert_eq!(gcd_u128(a, b), x);
+            proptest::prop_assert_eq!(gcd_u128(a, 0), a);
+            proptest::prop_assert_eq!(gcd_u128(0, b), b);
         }
     }
 

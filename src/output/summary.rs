@@ -1,14 +1,36 @@
 //! Input: a level set. Output: a short human-readable summary (counts of
-//! each kind, exact areas, saddles). Areas are printed exactly and rounded.
+//! each kind, exact areas, saddles). Areas are printed exactly and rounded
+//! (rounded only, when the exact fraction would run to thousands of digits).
 
 use crate::classify::{ExtremumKind, Facing, RidgeKind};
+use crate::exact::area::AreaSum;
 use crate::exact::rational::{rat_to_f64, rat_to_string, Rat};
-use crate::levelset::{total_area, LevelSet, Loop};
+use crate::levelset::{LevelSet, Loop};
 use crate::nest::Role;
 use std::fmt::Write;
 
 fn area_text(a: &Rat) -> String {
     format!("{} (~{})", rat_to_string(a), rat_to_f64(a))
+}
+
+/// Exact denominators past this many bits are not printed: the fraction
+/// would be unreadable and reducing it costs more than the slicing.
+const EXACT_TEXT_BITS: u64 = 4096;
+
+/// The area a family of loops encloses: exact and rounded, or rounded
+/// only when the exact fraction is huge (crossings on many edges with
+/// distinct denominators); `--format json --exact` has each loop's.
+fn loops_area_text(loops: &[Loop]) -> String {
+    let sum = AreaSum::of(loops.iter().map(|l| l.points.as_slice()));
+    if sum.denominator_bits() <= EXACT_TEXT_BITS {
+        area_text(&sum.reduce())
+    } else {
+        format!(
+            "~{} (exact denominator up to {} bits: see --format json --exact)",
+            sum.to_f64(),
+            sum.denominator_bits()
+        )
+    }
 }
 
 fn roles(loops: &[Loop]) -> (usize, usize) {
@@ -30,7 +52,7 @@ pub fn summary(ls: &LevelSet) -> String {
         s,
         "  contours S_O : {} loops ({o} outer, {h} hole), area {}",
         ls.contours.len(),
-        area_text(&total_area(&ls.contours))
+        loops_area_text(&ls.contours)
     );
     let count = |f: Facing| ls.regions.iter().filter(|r| r.facing == f).count();
     let _ = writeln!(
@@ -90,13 +112,13 @@ pub fn summary(ls: &LevelSet) -> String {
         s,
         "  below L-     : {} loops ({bo} outer, {bh} hole), area {}",
         ls.below.len(),
-        area_text(&total_area(&ls.below))
+        loops_area_text(&ls.below)
     );
     let _ = write!(
         s,
         "  above L+     : {} loops ({ao} outer, {ah} hole), area {}",
         ls.above.len(),
-        area_text(&total_area(&ls.above))
+        loops_area_text(&ls.above)
     );
     s
 }
