@@ -150,9 +150,11 @@ def fmt_s(x):
 
 
 def tool_runner(tool, args, mesh, plan_args, levels_file, cli):
-    if tool == "wmslice":
+    if tool.startswith("wmslice"):
+        threads = "2" if tool == "wmslice-2t" else "1"
+
         def once():
-            r = run_json([args.bench_slice, mesh, *plan_args, "--threads", "1"])
+            r = run_json([args.bench_slice, mesh, *plan_args, "--threads", threads])
             e2e = wall(cli)
             return dict(load_s=r["load_s"] + r["build_s"], slice_s=r["slice_s"], e2e_s=e2e,
                         contours=r["contours"])
@@ -197,7 +199,8 @@ def table(rows, machine, vers, args):
         "",
         "Versions: " + ", ".join(f"{k} {v}" for k, v in vers.items()),
         "",
-        f"Command: `{args.command}` (median of {args.runs} runs per row, one thread each;"
+        f"Command: `{args.command}` (median of {args.runs} runs per row, one thread each but"
+        " wmslice-2t (`--threads 2`);"
         f" a tool whose first run took over {args.cap:.0f} s was run once; timeout {t:.0f} s per run)",
         "",
         "| mesh | triangles | layers | tool | load+build s | slice s | end-to-end s | slice ratio | end-to-end ratio | curves |",
@@ -212,7 +215,7 @@ def table(rows, machine, vers, args):
         )
     lines += [
         "",
-        "Ratios: peer time / wmslice time, from the same run (above 1: wmslice is faster).",
+        "Ratios: tool time / wmslice (one thread) time, from the same run (above 1: wmslice is faster).",
         "wmslice end-to-end: wall time of `wmslice slice MESH --layer-height H --first Z0 --last Z1",
         "--threads 1 --quiet --format json -o out.json` (read the binary STL, weld, validate, build",
         "the topology, slice, write JSON). wmslice slice: `layers::slice_levels` alone",
@@ -238,7 +241,7 @@ def main():
     ap.add_argument("--cap", type=float, default=20.0,
                     help="a tool whose first run takes longer is run once")
     ap.add_argument("--timeout", type=float, default=150.0, help="seconds per process")
-    ap.add_argument("--tools", default="wmslice,manifold3d,cgal-epick,cgal-epeck,trimesh")
+    ap.add_argument("--tools", default="wmslice,wmslice-2t,manifold3d,cgal-epick,cgal-epeck,trimesh")
     ap.add_argument("--command", default="bench/compare")
     args = ap.parse_args()
     TIMEOUT[0] = args.timeout
@@ -269,20 +272,23 @@ def main():
                         f.write(repr(float(first + k * h)) + "\n")
                 plan_args = ["--layer-height", dec(h), "--first", dec(first), "--last", dec(last)]
                 out_json = os.path.join(args.out, f"wmslice_{name}_{n}.json")
-                cli = [args.wmslice, "slice", mesh, *plan_args, "--threads", "1",
-                       "--quiet", "--format", "json", "-o", out_json]
+                def cli_for(tool):
+                    threads = "2" if tool == "wmslice-2t" else "1"
+                    return [args.wmslice, "slice", mesh, *plan_args, "--threads", threads,
+                            "--quiet", "--format", "json", "-o", out_json]
                 print(f"\n{name} ({meta['triangles']} triangles), {n} layers: {' '.join(plan_args)}",
                       flush=True)
                 base = None
                 for tool in tools:
                     row = dict(mesh=name, triangles=meta["triangles"], layers=n, tool=tool,
-                               command=" ".join(cli) if tool == "wmslice" else "", base=None)
+                               command=" ".join(cli_for(tool)) if tool.startswith("wmslice") else "",
+                               base=None)
                     if any(t == tool and sh == shape and tr <= meta["triangles"] and ly <= n
                            for t, sh, tr, ly in timed_out):
                         row.update(status="skipped", runs=0)
                         print(f"  {tool:11s} skipped (timed out on a smaller {shape} run)", flush=True)
                     else:
-                        once = tool_runner(tool, args, mesh, plan_args, levels_file, cli)
+                        once = tool_runner(tool, args, mesh, plan_args, levels_file, cli_for(tool))
                         try:
                             row.update(median_runs(once, args.runs, args.cap), status="ok")
                             print(f"  {tool:11s} load+build {fmt_s(row['load_s'])} s, slice "
