@@ -3,7 +3,8 @@
 //! edges), each with its facing, exact area and boundary half-edges dF.
 
 use super::Signs;
-use crate::exact::area::{twice_area_xy, Dyadic};
+use crate::exact::area::twice_area_xy;
+use crate::exact::dyadic::Dyadic;
 use crate::exact::predicates::orient2d_xy;
 use crate::exact::rational::Rat;
 use crate::exact::Sign;

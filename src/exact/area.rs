@@ -10,6 +10,7 @@
 //! result is reduced by the (small) point denominators one at a time, never
 //! by a big gcd.
 
+use super::dyadic::Dyadic;
 use super::point::Point2;
 use super::rational::{decompose, rat_to_f64, Rat};
 use num_bigint::{BigInt, BigUint};
@@ -198,49 +199,7 @@ pub fn twice_area_xy(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> Dyadic {
         None => det(coords
             .map(|p| p.map_or_else(BigInt::zero, |(m, e)| BigInt::from(m) << (e - e0) as u32))),
     };
-    Dyadic { m, e: 2 * e0 }
-}
-
-/// An exact dyadic rational `m * 2^e`.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub struct Dyadic {
-    m: BigInt,
-    e: i32,
-}
-
-impl Dyadic {
-    /// Adds `|x|` exactly.
-    pub fn add_abs(&mut self, x: &Dyadic) {
-        if x.m.is_zero() {
-            return;
-        }
-        if self.m.is_zero() {
-            self.m = x.m.abs();
-            self.e = x.e;
-            return;
-        }
-        if x.e < self.e {
-            self.m <<= (self.e - x.e) as u32;
-            self.e = x.e;
-        }
-        self.m += x.m.abs() << (x.e - self.e) as u32;
-    }
-
-    /// The value as a rational in lowest terms, times `2^shift`.
-    pub fn to_rat_times_pow2(&self, shift: i32) -> Rat {
-        if self.m.is_zero() {
-            return Rat::zero();
-        }
-        let e = self.e + shift;
-        let m = self.m.clone();
-        if e >= 0 {
-            Rat::from_integer(m << e as u32)
-        } else {
-            // Cancel the powers of two the mantissa holds.
-            let tz = m.trailing_zeros().unwrap_or(0).min((-e) as u64);
-            Rat::new_raw(m >> tz, BigInt::one() << ((-e) as u64 - tz))
-        }
-    }
+    Dyadic::new(m, 2 * e0)
 }
 
 /// The shoelace with rational arithmetic throughout: the reference.

@@ -153,6 +153,14 @@ pub fn decompose(x: f64) -> Option<(i64, i32)> {
 /// The `f64` nearest to `r` (ties to even): the only rounding step, used for
 /// output. Exact when `r` is representable.
 pub fn rat_to_f64(r: &Rat) -> f64 {
+    // Both parts exact as doubles: IEEE division rounds the quotient
+    // correctly, in one step.
+    if let (Some(n), Some(d)) = (r.numer().to_i64(), r.denom().to_i64()) {
+        const EXACT: i64 = 1 << 53;
+        if (-EXACT..=EXACT).contains(&n) && d <= EXACT {
+            return n as f64 / d as f64;
+        }
+    }
     // num-rational rounds the quotient correctly for BigRational.
     r.to_f64().unwrap_or(if r.is_negative() {
         f64::NEG_INFINITY
@@ -223,6 +231,14 @@ mod tests {
     }
 
     proptest::proptest! {
+        /// The one-division fast path rounds like num-rational's general
+        /// conversion (numerators and denominators around 2^53).
+        #[test]
+        fn small_quotients_round_correctly(n in -(1i64 << 54)..(1i64 << 54), d in 1i64..(1i64 << 54), shift in 0u32..40) {
+            let r = Rat::new((n >> shift).into(), d.into());
+            proptest::prop_assert_eq!(rat_to_f64(&r), r.to_f64().unwrap());
+        }
+
         /// The direct construction equals num-rational's (reduced) one for
         /// every finite double, subnormals included.
         #[test]

@@ -6,10 +6,12 @@
 //! integers are small (the usual case: integer, dyadic or snapped meshes)
 //! the sum runs in `i128`; otherwise in `BigInt`. Both are exact.
 
+use super::dyadic::Dyadic;
 use super::rational::{decompose, Rat};
 use crate::mesh::Mesh;
 use num_bigint::BigInt;
 use num_traits::Zero;
+use rustc_hash::FxHashMap;
 
 /// The smallest exponent `e0` such that every coordinate is an integer
 /// multiple of `2^e0`, and the largest such integer's bit length.
@@ -35,57 +37,83 @@ fn common_grid(mesh: &Mesh) -> (i32, u32) {
 /// coordinates count as zero (validation rejects both before slicing).
 pub fn signed_volume(mesh: &Mesh) -> Rat {
     let (e0, bits) = common_grid(mesh);
-    let coords =
-        |v: crate::ids::VertexId| -> Option<[f64; 3]> { mesh.positions.get(v.idx()).copied() };
-    // Integers below 2^31: each det term < 2^93, six terms and 2^31 faces
-    // stay below 2^127.
-    let small = bits <= 31 && mesh.num_faces() < (1 << 31);
-    let scale = |x: f64| -> BigInt {
-        match decompose(x) {
-            Some((m, e)) => BigInt::from(m) << ((e - e0) as usize),
-            None => BigInt::zero(),
-        }
+    let corners = |tri: &[crate::ids::VertexId; 3]| -> Option<[[f64; 3]; 3]> {
+        let p = |k: usize| mesh.positions.get(tri[k].idx()).copied();
+        Some([p(0)?, p(1)?, p(2)?])
     };
-    let twice_cube = if small {
+    // Integers below 2^31 on the mesh's grid: each det term < 2^93, six
+    // terms and 2^31 faces stay below 2^127.
+    if bits <= 31 && mesh.num_faces() < (1 << 31) {
         let to_i = |x: f64| -> i128 {
             match decompose(x) {
                 Some((m, e)) => (m as i128) << (e - e0),
                 None => 0,
             }
         };
-        let mut acc: i128 = 0;
-        for tri in &mesh.faces {
-            let (Some(a), Some(b), Some(c)) = (coords(tri[0]), coords(tri[1]), coords(tri[2]))
-            else {
-                continue;
-            };
-            let [a, b, c] = [a, b, c].map(|p| p.map(to_i));
-            acc += det3_i128(a, b, c);
-        }
-        BigInt::from(acc)
-    } else {
-        let mut acc = BigInt::zero();
-        for tri in &mesh.faces {
-            let (Some(a), Some(b), Some(c)) = (coords(tri[0]), coords(tri[1]), coords(tri[2]))
-            else {
-                continue;
-            };
-            let [a, b, c] = [a, b, c].map(|p| p.map(scale));
-            acc += &a[0] * (&b[1] * &c[2] - &b[2] * &c[1])
-                - &a[1] * (&b[0] * &c[2] - &b[2] * &c[0])
-                + &a[2] * (&b[0] * &c[1] - &b[1] * &c[0]);
-        }
-        acc
-    };
-    let mut v = Rat::new(twice_cube, BigInt::from(6));
-    let shift = 3 * e0;
-    let two = Rat::from_integer(BigInt::from(2));
-    if shift >= 0 {
-        v *= num_traits::pow(two, shift as usize);
-    } else {
-        v /= num_traits::pow(two, (-shift) as usize);
+        let acc: i128 = mesh
+            .faces
+            .iter()
+            .filter_map(corners)
+            .map(|t| {
+                let [a, b, c] = t.map(|p| p.map(to_i));
+                det3_i128(a, b, c)
+            })
+            .sum();
+        return Dyadic::new(BigInt::from(acc), 3 * e0).to_rat_times_pow2(0)
+            / Rat::from_integer(6.into());
     }
-    v
+    // Otherwise each face on its own grid (f32 meshes spread over many
+    // binary exponents, but one face rarely does), its determinant summed
+    // in i128 per exponent; a face or sum that does not fit goes to BigInt.
+    let mut buckets: FxHashMap<i32, i128> = FxHashMap::default();
+    let mut wide = Dyadic::default();
+    for t in mesh.faces.iter().filter_map(corners) {
+        let parts = t.map(|p| p.map(decompose));
+        let e = parts
+            .iter()
+            .flatten()
+            .flatten()
+            .map(|&(_, e)| e)
+            .min()
+            .unwrap_or(0);
+        let small = |p: Option<(i64, i32)>| -> Option<i128> {
+            let Some((m, pe)) = p else { return Some(0) };
+            let k = i128::from(m) << u32::try_from(pe - e).ok().filter(|&s| s < 64)?;
+            (k.unsigned_abs() < 1 << 40).then_some(k)
+        };
+        let ints: Option<Vec<[i128; 3]>> = parts
+            .iter()
+            .map(|p| Some([small(p[0])?, small(p[1])?, small(p[2])?]))
+            .collect();
+        match ints {
+            // Products below 2^120, the determinant below 2^123.
+            Some(k) => {
+                let det = det3_i128(k[0], k[1], k[2]);
+                let slot = buckets.entry(3 * e).or_insert(0);
+                match slot.checked_add(det) {
+                    Some(v) => *slot = v,
+                    None => {
+                        wide.add(&BigInt::from(*slot), 3 * e);
+                        *slot = det;
+                    }
+                }
+            }
+            None => {
+                let big = |p: Option<(i64, i32)>| {
+                    p.map_or_else(BigInt::zero, |(m, pe)| BigInt::from(m) << (pe - e) as u32)
+                };
+                let [a, b, c] = parts.map(|p| p.map(big));
+                let det = &a[0] * (&b[1] * &c[2] - &b[2] * &c[1])
+                    - &a[1] * (&b[0] * &c[2] - &b[2] * &c[0])
+                    + &a[2] * (&b[0] * &c[1] - &b[1] * &c[0]);
+                wide.add(&det, 3 * e);
+            }
+        }
+    }
+    for (e, v) in buckets {
+        wide.add(&BigInt::from(v), e);
+    }
+    wide.to_rat_times_pow2(0) / Rat::from_integer(6.into())
 }
 
 fn det3_i128(a: [i128; 3], b: [i128; 3], c: [i128; 3]) -> i128 {
@@ -158,6 +186,22 @@ mod tests {
             let s = if s == 0 { 1.0 } else { f64::from(s) };
             let f = if decimal { 0.1 } else { 2f64.powi(scale_exp) };
             let m = tetra(s * f, t.map(|x| x as f64 * f));
+            proptest::prop_assert_eq!(signed_volume(&m), reference(&m));
+        }
+
+        /// Meshes of f32 coordinates spread over many binary exponents
+        /// take the per-face path (and the per-face BigInt fallback when a
+        /// face itself spans too many bits): still exact.
+        #[test]
+        fn per_face_grids_equal_the_rational_reference(
+            v in proptest::collection::vec(proptest::array::uniform3(-1.0e4f32..1.0e4), 4),
+            tiny in proptest::bool::ANY,
+        ) {
+            let mut pos: Vec<[f64; 3]> = v.iter().map(|p| p.map(f64::from)).collect();
+            if tiny {
+                pos[0][0] = 1.0e-30;
+            }
+            let m = Mesh::from_raw(pos, vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]);
             proptest::prop_assert_eq!(signed_volume(&m), reference(&m));
         }
     }

@@ -514,7 +514,7 @@ impl<'a> LevelBuilder<'a> {
                 (cuts, points)
             })
             .collect();
-        let filtered: Vec<Vec<FilteredPoint<'_>>> = shapes
+        let mut filtered: Vec<Vec<FilteredPoint<'_>>> = shapes
             .iter()
             .map(|(_, pts)| pts.iter().map(FilteredPoint::new).collect())
             .collect();
@@ -523,26 +523,19 @@ impl<'a> LevelBuilder<'a> {
             .zip(&shapes)
             .map(|(f, (_, pts))| orientation_of(f, pts))
             .collect();
-        let keep: Vec<bool> = orientations
+        let kept: Vec<usize> = (0..shapes.len())
+            .filter(|&i| !(drop_collapsed && orientations[i].0 == Sign::Zero))
+            .collect();
+        let kept_filtered: Vec<Vec<FilteredPoint<'_>>> = kept
             .iter()
-            .map(|&(sign, _)| !(drop_collapsed && sign == Sign::Zero))
+            .map(|&i| std::mem::take(&mut filtered[i]))
             .collect();
-        let kept: Vec<Vec<FilteredPoint<'_>>> = filtered
-            .into_iter()
-            .zip(&keep)
-            .filter_map(|(f, &k)| k.then_some(f))
-            .collect();
-        let nesting = nest_filtered(&kept);
-        drop(kept);
-        let mut nesting = nesting.into_iter();
-        let mut loops = Vec::with_capacity(nesting.len());
-        for (((cuts, points), (orientation, area_approx)), k) in
-            shapes.drain(..).zip(orientations).zip(keep)
-        {
-            if !k {
-                continue;
-            }
-            let n = nesting.next().expect("one nesting per kept loop");
+        let nesting = nest_filtered(&kept_filtered);
+        drop((kept_filtered, filtered));
+        let mut loops = Vec::with_capacity(kept.len());
+        for (&i, n) in kept.iter().zip(nesting) {
+            let (cuts, points) = std::mem::take(&mut shapes[i]);
+            let (orientation, area_approx) = orientations[i];
             loops.push(Loop {
                 cuts,
                 points,
