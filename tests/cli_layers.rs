@@ -97,7 +97,7 @@ fn layers_follow_the_exact_levels_ascending_and_loops_close_on_their_first_point
         3
     );
     let so = &sets[0].contours;
-    for (p, l) in top.polylines.iter().zip(so) {
+    for (p, l) in top.polylines.iter().zip(so.iter()) {
         assert_eq!(p.points.len(), l.points.len() + 1);
         assert_eq!(p.points.first(), p.points.last());
         let exact: Vec<[f64; 2]> = l.points.iter().map(|q| q.to_f64()).collect();

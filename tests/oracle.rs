@@ -192,10 +192,10 @@ fn the_comparison_detects_corrupted_answers() {
         let mut mutants: Vec<(&str, LevelSet)> = Vec::new();
         if !ls.contours.is_empty() {
             let mut m = ls.clone();
-            m.contours.pop();
+            std::sync::Arc::make_mut(&mut m.contours).pop();
             mutants.push(("a contour loop dropped", m));
             let mut m = ls.clone();
-            let p = &mut m.contours[0].points[0];
+            let p = &mut std::sync::Arc::make_mut(&mut m.contours)[0].points[0];
             p.x += Rat::new(1.into(), 1024.into());
             mutants.push(("a contour point moved", m));
         }

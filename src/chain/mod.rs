@@ -34,43 +34,53 @@ pub enum ChainError {
     },
 }
 
-#[derive(Default)]
-struct Ends {
-    incoming: Vec<usize>,
-    outgoing: Vec<usize>,
-}
-
 /// Chains segments into closed loops. Each loop lists segment indices in
 /// order; loops come out in order of their smallest segment index, and each
 /// loop starts at its smallest segment index, so the result is canonical.
 pub fn chain_loops(topo: &Topology, segments: &[Segment]) -> Result<Vec<Vec<usize>>, ChainError> {
-    let mut at: HashMap<CutPoint, Ends> =
-        HashMap::with_capacity_and_hasher(segments.len(), Default::default());
-    for (i, s) in segments.iter().enumerate() {
-        at.entry(s.from).or_default().outgoing.push(i);
-        at.entry(s.to).or_default().incoming.push(i);
-    }
+    // Segment ends sorted by cut point (then segment index): each cut
+    // point's arrivals and departures are two runs, read side by side.
+    let mut ins: Vec<(CutPoint, usize)> = segments
+        .iter()
+        .enumerate()
+        .map(|(i, s)| (s.to, i))
+        .collect();
+    let mut outs: Vec<(CutPoint, usize)> = segments
+        .iter()
+        .enumerate()
+        .map(|(i, s)| (s.from, i))
+        .collect();
+    ins.sort_unstable();
+    outs.sort_unstable();
     let mut next = vec![usize::MAX; segments.len()];
-    let mut points: Vec<(&CutPoint, &Ends)> = at.iter().collect();
-    points.sort_unstable_by_key(|(p, _)| **p);
-    for (p, ends) in points {
-        if ends.incoming.len() != ends.outgoing.len() {
-            return Err(ChainError::Unbalanced {
-                at: *p,
-                incoming: ends.incoming.len(),
-                outgoing: ends.outgoing.len(),
-            });
+    let (mut a, mut b) = (0, 0);
+    loop {
+        let p = match (ins.get(a), outs.get(b)) {
+            (Some(x), Some(y)) => x.0.min(y.0),
+            (Some(x), None) => x.0,
+            (None, Some(y)) => y.0,
+            (None, None) => break,
+        };
+        let run = |v: &[(CutPoint, usize)], from: usize| {
+            from + v[from..].iter().take_while(|e| e.0 == p).count()
+        };
+        let (a_end, b_end) = (run(&ins, a), run(&outs, b));
+        let (incoming, outgoing) = (&ins[a..a_end], &outs[b..b_end]);
+        (a, b) = (a_end, b_end);
+        let unbalanced = || ChainError::Unbalanced {
+            at: p,
+            incoming: incoming.len(),
+            outgoing: outgoing.len(),
+        };
+        if incoming.len() != outgoing.len() {
+            return Err(unbalanced());
         }
-        match (*p, ends.incoming.len()) {
-            (_, 1) => next[ends.incoming[0]] = ends.outgoing[0],
-            (CutPoint::AtVertex(v), _) => pair_at_vertex(topo, segments, v, ends, &mut next)?,
-            (CutPoint::OnEdge(_), _) => {
-                return Err(ChainError::Unbalanced {
-                    at: *p,
-                    incoming: ends.incoming.len(),
-                    outgoing: ends.outgoing.len(),
-                })
+        match (p, incoming.len()) {
+            (_, 1) => next[incoming[0].1] = outgoing[0].1,
+            (CutPoint::AtVertex(v), _) => {
+                pair_at_vertex(topo, segments, v, incoming, outgoing, &mut next)?
             }
+            (CutPoint::OnEdge(_), _) => return Err(unbalanced()),
         }
     }
     let mut seen = vec![false; segments.len()];
@@ -96,7 +106,8 @@ fn pair_at_vertex(
     topo: &Topology,
     segments: &[Segment],
     v: VertexId,
-    ends: &Ends,
+    incoming: &[(CutPoint, usize)],
+    outgoing: &[(CutPoint, usize)],
     next: &mut [usize],
 ) -> Result<(), ChainError> {
     // Position in the fan: 2k for the edge to neighbour n_k, 2k + 1 for the
@@ -109,11 +120,10 @@ fn pair_at_vertex(
         position.insert(Via::Face(entry.face), 2 * k + 1);
     }
     let mut branches: Vec<(usize, bool, usize)> = Vec::new();
-    for (&i, incoming) in ends
-        .incoming
+    for (i, incoming) in incoming
         .iter()
-        .map(|i| (i, true))
-        .chain(ends.outgoing.iter().map(|i| (i, false)))
+        .map(|&(_, i)| (i, true))
+        .chain(outgoing.iter().map(|&(_, i)| (i, false)))
     {
         let pos = *position
             .get(&segments[i].via)

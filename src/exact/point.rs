@@ -88,21 +88,29 @@ fn common_ints<const N: usize>(xs: [f64; N]) -> Option<([i128; N], i32)> {
     Some((out, e0))
 }
 
-/// Euclid's gcd: `u128` steps until both numbers fit in `u64` (`u128`
-/// division is a slow library call), then hardware `u64` steps.
+/// The gcd: Euclid's `u128` steps until both numbers fit in `u64` (`u128`
+/// division is a slow library call), then the binary gcd on `u64`.
 fn gcd_u128(mut a: u128, mut b: u128) -> u128 {
     let wide = u128::from(u64::MAX);
     while b != 0 && (a > wide || b > wide) {
         (a, b) = (b, a % b);
     }
-    if b == 0 {
-        return a;
+    if a == 0 || b == 0 {
+        return a | b;
     }
     let (mut a, mut b) = (a as u64, b as u64);
-    while b != 0 {
-        (a, b) = (b, a % b);
+    let shift = (a | b).trailing_zeros();
+    a >>= a.trailing_zeros();
+    loop {
+        b >>= b.trailing_zeros();
+        if a > b {
+            std::mem::swap(&mut a, &mut b);
+        }
+        b -= a;
+        if b == 0 {
+            return u128::from(a << shift);
+        }
     }
-    u128::from(a)
 }
 
 /// `v * 2^s`, or `None` if any bit would be lost.

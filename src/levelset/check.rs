@@ -52,7 +52,7 @@ pub fn check_level_invariants(mesh: &Mesh, topo: &Topology, ls: &LevelSet) -> Re
 
     // Cover of strictly crossed edges: each exactly once in S_O.
     let mut crossings: HashMap<EdgeId, usize> = HashMap::new();
-    for l in &ls.contours {
+    for l in ls.contours.iter() {
         for c in &l.cuts {
             if let CutPoint::OnEdge(e) = c {
                 *crossings.entry(*e).or_default() += 1;

@@ -22,10 +22,11 @@ use crate::ids::{EdgeId, FaceId, VertexId};
 use crate::mesh::topology::Topology;
 use crate::mesh::validate::{validate, Report};
 use crate::mesh::Mesh;
-use crate::nest::{nest_filtered, Role};
+use crate::nest::{nest_filtered, Reversals, Role};
 use crate::segment::{edge_segments, face_segment, CutPoint, Segment, Via};
 use num_traits::One;
 use rustc_hash::FxHashMap as HashMap;
+use std::sync::Arc;
 
 /// A closed, oriented loop with exact points.
 #[derive(Clone, Debug, PartialEq)]
@@ -125,8 +126,10 @@ pub struct Saddle {
 pub struct LevelSet {
     /// The exact level, in the mesh's units.
     pub level: Rat,
-    /// S_O: oriented contours, material on the left.
-    pub contours: Vec<Loop>,
+    /// S_O: oriented contours, material on the left. Shared with `below`
+    /// and `above` when no vertex lies on the plane (they are then the
+    /// same loops; `Arc::ptr_eq` tells).
+    pub contours: Arc<Vec<Loop>>,
     /// F with dF.
     pub regions: Vec<FaceRegion>,
     /// S_NO.
@@ -136,9 +139,9 @@ pub struct LevelSet {
     /// Saddles.
     pub saddles: Vec<Saddle>,
     /// L-: the contour just below the level.
-    pub below: Vec<Loop>,
+    pub below: Arc<Vec<Loop>>,
     /// L+: the contour just above the level.
-    pub above: Vec<Loop>,
+    pub above: Arc<Vec<Loop>>,
 }
 
 /// Why slicing failed.
@@ -248,9 +251,15 @@ impl<'m> Slicer<'m> {
                     l.points.iter().map(FilteredPoint::new).collect();
                 l.area_approx = orientation_of(&filtered, &l.points).1;
             };
-            ls.contours.iter_mut().for_each(scale);
-            ls.below.iter_mut().for_each(scale);
-            ls.above.iter_mut().for_each(scale);
+            let shared = Arc::ptr_eq(&ls.contours, &ls.below);
+            Arc::make_mut(&mut ls.contours).iter_mut().for_each(scale);
+            if shared {
+                ls.below = Arc::clone(&ls.contours);
+                ls.above = Arc::clone(&ls.contours);
+            } else {
+                Arc::make_mut(&mut ls.below).iter_mut().for_each(scale);
+                Arc::make_mut(&mut ls.above).iter_mut().for_each(scale);
+            }
             for r in &mut ls.regions {
                 r.area *= &u2;
                 r.boundary.iter_mut().for_each(scale);
@@ -271,6 +280,15 @@ impl<'m> Slicer<'m> {
 pub(crate) fn touches(mesh: &Mesh, f: FaceId, level: &Level) -> bool {
     let s = mesh.faces[f.idx()].map(|v| level.sign_of(mesh.positions[v.idx()][2]));
     s.contains(&Sign::Zero) || (s.contains(&Sign::Positive) && s.contains(&Sign::Negative))
+}
+
+/// Which kind of loops are being chained.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Family {
+    /// S_O or dF: segments never run both ways, loops never collapse.
+    Exact,
+    /// L- or L+: regularized limits, where both may happen.
+    OneSided,
 }
 
 struct LevelBuilder<'a> {
@@ -352,7 +370,7 @@ impl<'a> LevelBuilder<'a> {
             .filter_map(|&f| face_segment(mesh, topo, signs, f))
             .collect();
         segments.extend(edge_segments(&edges));
-        let contours = self.loops(&segments, |c| self.cut_point(c))?;
+        let contours = Arc::new(self.loops(&segments, |c| self.cut_point(c))?);
 
         // Saddles: on-plane vertices with 2m >= 4 S_O branches.
         let mut branches: HashMap<VertexId, u32> = HashMap::default();
@@ -425,9 +443,12 @@ impl<'a> LevelBuilder<'a> {
         // With no vertex on the plane, perturbing zero signs changes
         // nothing: L- and L+ are S_O, segment for segment.
         let (below, above) = if on_plane.is_empty() {
-            (contours.clone(), contours.clone())
+            (Arc::clone(&contours), Arc::clone(&contours))
         } else {
-            (self.one_sided(Side::Below)?, self.one_sided(Side::Above)?)
+            (
+                Arc::new(self.one_sided(Side::Below)?),
+                Arc::new(self.one_sided(Side::Above)?),
+            )
         };
 
         let ls = LevelSet {
@@ -487,7 +508,7 @@ impl<'a> LevelBuilder<'a> {
             .filter(|s| !index.contains_key(&(s.to, s.from)))
             .copied()
             .collect();
-        self.loops_with(&kept, |c| self.cut_point(c), true)
+        self.loops_with(&kept, |c| self.cut_point(c), Family::OneSided)
     }
 
     fn loops(
@@ -495,7 +516,7 @@ impl<'a> LevelBuilder<'a> {
         segments: &[Segment],
         point: impl Fn(CutPoint) -> Point2,
     ) -> Result<Vec<Loop>, SliceError> {
-        self.loops_with(segments, point, false)
+        self.loops_with(segments, point, Family::Exact)
     }
 
     /// Chains, computes exact points, decides orientations and nests.
@@ -503,7 +524,7 @@ impl<'a> LevelBuilder<'a> {
         &self,
         segments: &[Segment],
         point: impl Fn(CutPoint) -> Point2,
-        drop_collapsed: bool,
+        family: Family,
     ) -> Result<Vec<Loop>, SliceError> {
         let chains = chain_loops(self.topo, segments)?;
         let mut shapes: Vec<(Vec<CutPoint>, Vec<Point2>)> = chains
@@ -524,13 +545,17 @@ impl<'a> LevelBuilder<'a> {
             .map(|(f, (_, pts))| orientation_of(f, pts))
             .collect();
         let kept: Vec<usize> = (0..shapes.len())
-            .filter(|&i| !(drop_collapsed && orientations[i].0 == Sign::Zero))
+            .filter(|&i| !(family == Family::OneSided && orientations[i].0 == Sign::Zero))
             .collect();
         let kept_filtered: Vec<Vec<FilteredPoint<'_>>> = kept
             .iter()
             .map(|&i| std::mem::take(&mut filtered[i]))
             .collect();
-        let nesting = nest_filtered(&kept_filtered);
+        let reversals = match family {
+            Family::Exact => Reversals::Impossible,
+            Family::OneSided => Reversals::Possible,
+        };
+        let nesting = nest_filtered(&kept_filtered, reversals);
         drop((kept_filtered, filtered));
         let mut loops = Vec::with_capacity(kept.len());
         for (&i, n) in kept.iter().zip(nesting) {

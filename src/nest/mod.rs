@@ -111,25 +111,38 @@ fn bbox(poly: &[FilteredPoint<'_>]) -> Bbox {
     b
 }
 
+/// Whether two segments of a family may run both ways between the same
+/// two points.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Reversals {
+    /// Never (S_O, dF): every segment's midpoint lies on its loop alone.
+    Impossible,
+    /// Possibly (one-sided limits: zero-width cracks and spikes), or not
+    /// known.
+    Possible,
+}
+
 /// Nests a family of loops. `loops[i]` is the exact polygon of loop `i`.
 pub fn nest<P: AsRef<[Point2]>>(loops: &[P]) -> Vec<Nesting> {
     let filtered: Vec<Vec<FilteredPoint<'_>>> = loops
         .iter()
         .map(|l| l.as_ref().iter().map(FilteredPoint::new).collect())
         .collect();
-    nest_filtered(&filtered)
+    nest_filtered(&filtered, Reversals::Possible)
 }
 
 /// [`nest`] for loops whose points are already enclosed.
-pub fn nest_filtered(filtered: &[Vec<FilteredPoint<'_>>]) -> Vec<Nesting> {
+pub fn nest_filtered(filtered: &[Vec<FilteredPoint<'_>>], reversals: Reversals) -> Vec<Nesting> {
     let n = filtered.len();
     if n == 0 {
         return Vec::new();
     }
     let mut segments: HashSet<(Key, Key)> = HashSet::default();
-    for l in filtered {
-        for i in 0..l.len() {
-            segments.insert((l[i].key(), l[(i + 1) % l.len()].key()));
+    if reversals == Reversals::Possible {
+        for l in filtered {
+            for i in 0..l.len() {
+                segments.insert((l[i].key(), l[(i + 1) % l.len()].key()));
+            }
         }
     }
     let reps: Vec<Option<Point2>> = filtered

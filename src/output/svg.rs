@@ -405,7 +405,7 @@ pub fn drawing(ls: &LevelSet, scene: &Scene, opts: &SvgOptions) -> Drawing {
         );
     }
     if opts.arrows {
-        for l in &ls.contours {
+        for l in ls.contours.iter() {
             let class = match l.role {
                 Role::Outer => "on-so",
                 Role::Hole => "on-so hole",
