@@ -11,8 +11,10 @@ use crate::mesh::Mesh;
 use crate::nest::Role;
 use crate::segment::CutPoint;
 use serde::Serialize;
+use serde_json::value::RawValue;
 use sha2::{Digest, Sha256};
 use std::io::Write;
+use std::sync::Arc;
 
 /// Whether exact rationals are written beside the rounded values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -125,16 +127,19 @@ struct JsonSaddle {
     branches: u32,
 }
 
+/// Loop lists are serialized ahead: L- and L+ that share S_O's loops
+/// (no vertex on the plane) reuse its text instead of formatting every
+/// point three times.
 #[derive(Serialize)]
 struct JsonLevel {
     z: String,
-    contours: Vec<JsonLoop>,
+    contours: Box<RawValue>,
     faces: Vec<JsonRegion>,
     ridges: Vec<JsonRidge>,
     points: Vec<JsonPoint>,
     saddles: Vec<JsonSaddle>,
-    below: Vec<JsonLoop>,
-    above: Vec<JsonLoop>,
+    below: Box<RawValue>,
+    above: Box<RawValue>,
 }
 
 fn exact_xy(p: &Point2) -> [String; 2] {
@@ -168,11 +173,21 @@ fn json_loop(l: &Loop, ex: Exactness) -> JsonLoop {
     }
 }
 
-fn json_level(ls: &LevelSet, ex: Exactness) -> JsonLevel {
-    let loops = |v: &[Loop]| v.iter().map(|l| json_loop(l, ex)).collect();
-    JsonLevel {
+fn json_level(ls: &LevelSet, ex: Exactness) -> serde_json::Result<JsonLevel> {
+    let loops = |v: &[Loop]| -> Vec<JsonLoop> { v.iter().map(|l| json_loop(l, ex)).collect() };
+    let text = |v: &[Loop]| serde_json::value::to_raw_value(&loops(v));
+    let contours = text(&ls.contours)?;
+    let same = |v: &Arc<Vec<Loop>>| -> serde_json::Result<Box<RawValue>> {
+        if Arc::ptr_eq(v, &ls.contours) {
+            Ok(contours.clone())
+        } else {
+            text(v)
+        }
+    };
+    let (below, above) = (same(&ls.below)?, same(&ls.above)?);
+    Ok(JsonLevel {
         z: rat_to_string(&ls.level),
-        contours: loops(&ls.contours),
+        contours,
         faces: ls
             .regions
             .iter()
@@ -210,9 +225,9 @@ fn json_level(ls: &LevelSet, ex: Exactness) -> JsonLevel {
                 branches: s.branches,
             })
             .collect(),
-        below: loops(&ls.below),
-        above: loops(&ls.above),
-    }
+        below,
+        above,
+    })
 }
 
 /// Writes one `wmslice-levelset` document level by level, so memory does
@@ -237,7 +252,7 @@ impl<W: Write> JsonWriter<W> {
         if self.count > 0 {
             self.out.write_all(b",\n")?;
         }
-        serde_json::to_writer(&mut self.out, &json_level(ls, self.ex))?;
+        serde_json::to_writer(&mut self.out, &json_level(ls, self.ex)?)?;
         self.count += 1;
         Ok(())
     }
