@@ -1,6 +1,8 @@
 //! The command line on the paper's showcase levels: the exact slicer and
 //! the naive one side by side.
 
+mod common;
+
 use std::process::Command;
 
 fn run(args: &[&str]) -> (i32, String) {
@@ -71,35 +73,7 @@ fn snapping_makes_the_cad_plane_exact() {
     // exactly at 3/5 only after snapping to 1/10000.
     let dir = tempfile::tempdir().unwrap();
     let z = 0.6f32 as f64;
-    let mut s = String::from("OFF\n8 12 0\n");
-    for (x, y, zz) in [
-        (0., 0., 0.),
-        (1., 0., 0.),
-        (1., 1., 0.),
-        (0., 1., 0.),
-        (0., 0., z),
-        (1., 0., z),
-        (1., 1., z),
-        (0., 1., z),
-    ] {
-        s += &format!("{x:?} {y:?} {zz:?}\n");
-    }
-    for f in [
-        [0, 2, 1],
-        [0, 3, 2],
-        [4, 5, 6],
-        [4, 6, 7],
-        [0, 1, 5],
-        [0, 5, 4],
-        [1, 2, 6],
-        [1, 6, 5],
-        [2, 3, 7],
-        [2, 7, 6],
-        [3, 0, 4],
-        [3, 4, 7],
-    ] {
-        s += &format!("3 {} {} {}\n", f[0], f[1], f[2]);
-    }
+    let s = common::cad_cube_off(z);
     let path = dir.path().join("cad.off");
     std::fs::write(&path, s).unwrap();
     let p = path.to_str().unwrap();

@@ -4,6 +4,8 @@
 //! verdict is the verifier's, and the same input and options give
 //! byte-identical results and certificates.
 
+mod common;
+
 use sha2::{Digest, Sha256};
 use std::path::Path;
 use std::process::{Command, Output};
@@ -107,35 +109,7 @@ fn a_snapped_file_certificate_hashes_the_file_and_reports_the_largest_move() {
     let dir = tempfile::tempdir().unwrap();
     // A unit cube whose top is stored as f32 0.6 (0.60000002...).
     let z = 0.6f32 as f64;
-    let mut text = String::from("OFF\n8 12 0\n");
-    for (x, y, zz) in [
-        (0., 0., 0.),
-        (1., 0., 0.),
-        (1., 1., 0.),
-        (0., 1., 0.),
-        (0., 0., z),
-        (1., 0., z),
-        (1., 1., z),
-        (0., 1., z),
-    ] {
-        text += &format!("{x:?} {y:?} {zz:?}\n");
-    }
-    for f in [
-        [0, 2, 1],
-        [0, 3, 2],
-        [4, 5, 6],
-        [4, 6, 7],
-        [0, 1, 5],
-        [0, 5, 4],
-        [1, 2, 6],
-        [1, 6, 5],
-        [2, 3, 7],
-        [2, 7, 6],
-        [3, 0, 4],
-        [3, 4, 7],
-    ] {
-        text += &format!("3 {} {} {}\n", f[0], f[1], f[2]);
-    }
+    let text = common::cad_cube_off(z);
     let mesh = dir.path().join("cad.off");
     std::fs::write(&mesh, &text).unwrap();
     let cert = dir.path().join("c.json");

@@ -199,20 +199,49 @@ fn angle_cmp(u: &(Rat, Rat), v: &(Rat, Rat)) -> Ordering {
 /// Invariant 4: no two segments of a family cross properly, no two overlap,
 /// and no two passes through a shared point cross there.
 fn no_crossing(loops: &[Loop], opposite_overlap_ok: bool) -> Result<(), String> {
-    let mut segs: Vec<(usize, &Point2, &Point2)> = Vec::new();
+    /// A segment with its exact bounding box.
+    struct Seg<'a> {
+        owner: usize,
+        p: &'a Point2,
+        q: &'a Point2,
+        x: [&'a Rat; 2],
+        y: [&'a Rat; 2],
+    }
+    fn sorted<'r>(a: &'r Rat, b: &'r Rat) -> [&'r Rat; 2] {
+        if a <= b {
+            [a, b]
+        } else {
+            [b, a]
+        }
+    }
+    let mut segs: Vec<Seg<'_>> = Vec::new();
     for (i, l) in loops.iter().enumerate() {
         let n = l.points.len();
         for k in 0..n {
             let (p, q) = (&l.points[k], &l.points[(k + 1) % n]);
             if p != q {
-                segs.push((i, p, q));
+                segs.push(Seg {
+                    owner: i,
+                    p,
+                    q,
+                    x: sorted(&p.x, &q.x),
+                    y: sorted(&p.y, &q.y),
+                });
             }
         }
     }
-    for x in 0..segs.len() {
-        for y in x + 1..segs.len() {
-            let (_, p1, p2) = segs[x];
-            let (_, q1, q2) = segs[y];
+    // Two segments can only meet if their exact bounding boxes do: sweep
+    // them in order of their least x, pairing only overlapping boxes.
+    segs.sort_by(|a, b| a.x[0].cmp(b.x[0]));
+    for (x, s) in segs.iter().enumerate() {
+        for t in &segs[x + 1..] {
+            if t.x[0] > s.x[1] {
+                break;
+            }
+            if t.y[0] > s.y[1] || s.y[0] > t.y[1] {
+                continue;
+            }
+            let (p1, p2, q1, q2) = (s.p, s.q, t.p, t.q);
             let d1 = orient2d_rat(p1, p2, q1);
             let d2 = orient2d_rat(p1, p2, q2);
             let d3 = orient2d_rat(q1, q2, p1);
@@ -221,7 +250,7 @@ fn no_crossing(loops: &[Loop], opposite_overlap_ok: bool) -> Result<(), String> 
             if strict(d1, d2) && strict(d3, d4) {
                 return Err(format!(
                     "segments of loops {} and {} cross",
-                    segs[x].0, segs[y].0
+                    s.owner, t.owner
                 ));
             }
             let reversed = p1 == q2 && p2 == q1;
@@ -231,18 +260,30 @@ fn no_crossing(loops: &[Loop], opposite_overlap_ok: bool) -> Result<(), String> 
             {
                 return Err(format!(
                     "segments of loops {} and {} overlap",
-                    segs[x].0, segs[y].0
+                    s.owner, t.owner
                 ));
             }
-            // A segment's interior must not touch the other segment's end.
+            // Neither segment's interior may touch the other's ends.
             let interior = |a: &Point2, b: &Point2, p: &Point2, o: Sign| {
                 o == Sign::Zero && p != a && p != b && between(a, b, p)
             };
-            if interior(p1, p2, q1, d1) || interior(p1, p2, q2, d2) {
-                return Err(format!(
-                    "a point of loop {} lies inside a segment of loop {}",
-                    segs[y].0, segs[x].0
-                ));
+            for (inner, outer, hit) in [
+                (
+                    t.owner,
+                    s.owner,
+                    interior(p1, p2, q1, d1) || interior(p1, p2, q2, d2),
+                ),
+                (
+                    s.owner,
+                    t.owner,
+                    interior(q1, q2, p1, d3) || interior(q1, q2, p2, d4),
+                ),
+            ] {
+                if hit {
+                    return Err(format!(
+                        "a point of loop {inner} lies inside a segment of loop {outer}"
+                    ));
+                }
             }
         }
     }

@@ -148,8 +148,8 @@ fn exact_xy(p: &Point2) -> [String; 2] {
 
 /// With exact output, `area` is the nearest double of `area_exact`
 /// (computed anyway); without, the loop's certified rounding
-/// ([`Loop::area_approx`]: of the exact sign, off by at most about one
-/// ulp of the shoelace terms per point), so the exact area is never
+/// ([`Loop::area_approx`]: of the exact sign, within a few ulps of the
+/// largest shoelace partial sum per point), so the exact area is never
 /// computed.
 fn json_loop(l: &Loop, ex: Exactness) -> JsonLoop {
     let with = ex == Exactness::WithExact;

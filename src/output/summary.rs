@@ -122,3 +122,63 @@ pub fn summary(ls: &LevelSet) -> String {
     );
     s
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::exact::{Point2, Sign};
+    use crate::segment::CutPoint;
+
+    /// A convex polygon whose vertices have distinct prime denominators:
+    /// its exact area's denominator runs to thousands of bits.
+    fn many_denominators(n: usize) -> Vec<Point2> {
+        let primes: Vec<i64> = (1009i64..)
+            .filter(|p| (2..*p).take_while(|d| d * d <= *p).all(|d| p % d != 0))
+            .take(n)
+            .collect();
+        (0..n)
+            .map(|k| {
+                let t = k as f64 / n as f64 * std::f64::consts::TAU;
+                let p = primes[k];
+                let r = |v: f64| Rat::new(((v * 1000.0) as i64 * p / 1000).into(), p.into());
+                Point2 {
+                    x: r(100.0 * t.cos()),
+                    y: r(100.0 * t.sin()),
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn huge_exact_areas_are_printed_rounded_and_small_ones_exactly() {
+        let ls = |points: Vec<Point2>| LevelSet {
+            level: Rat::default(),
+            contours: std::sync::Arc::new(vec![Loop {
+                cuts: vec![CutPoint::AtVertex(crate::ids::VertexId(0)); points.len()],
+                points,
+                orientation: Sign::Positive,
+                area_approx: 0.0,
+                role: Role::Outer,
+                parent: None,
+            }]),
+            regions: vec![],
+            ridges: vec![],
+            extrema: vec![],
+            saddles: vec![],
+            below: Default::default(),
+            above: Default::default(),
+        };
+        let big = many_denominators(600);
+        let exact = crate::exact::area::signed_area(&big);
+        assert!(exact.denom().bits() > EXACT_TEXT_BITS);
+        let text = summary(&ls(big));
+        assert!(
+            text.contains(&format!("area ~{} (exact denominator", rat_to_f64(&exact))),
+            "{text}"
+        );
+        let small = many_denominators(4);
+        let exact = crate::exact::area::signed_area(&small);
+        let text = summary(&ls(small));
+        assert!(text.contains(&area_text(&exact)), "{text}");
+    }
+}

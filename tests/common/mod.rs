@@ -27,3 +27,38 @@ pub fn slab() -> impl Strategy<Value = Slab> {
             })
     })
 }
+
+/// A unit cube as OFF text, its top at `z_top` (a CAD export's f32 `0.6`
+/// is `0.60000002...`): outward counter-clockwise faces.
+pub fn cad_cube_off(z_top: f64) -> String {
+    let mut s = String::from("OFF\n8 12 0\n");
+    for (x, y, z) in [
+        (0., 0., 0.),
+        (1., 0., 0.),
+        (1., 1., 0.),
+        (0., 1., 0.),
+        (0., 0., z_top),
+        (1., 0., z_top),
+        (1., 1., z_top),
+        (0., 1., z_top),
+    ] {
+        s += &format!("{x:?} {y:?} {z:?}\n");
+    }
+    for f in [
+        [0, 2, 1],
+        [0, 3, 2],
+        [4, 5, 6],
+        [4, 6, 7],
+        [0, 1, 5],
+        [0, 5, 4],
+        [1, 2, 6],
+        [1, 6, 5],
+        [2, 3, 7],
+        [2, 7, 6],
+        [3, 0, 4],
+        [3, 4, 7],
+    ] {
+        s += &format!("3 {} {} {}\n", f[0], f[1], f[2]);
+    }
+    s
+}
