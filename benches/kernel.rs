@@ -3,14 +3,12 @@
 //!
 //! - `torus_100k`: a tilted torus of about 100 000 triangles: topology
 //!   build, `Slicer::new` (validation and topology), one layer
-//!   (`Slicer::slice_at`, which scans every face);
+//!   (`Slicer::slice_at`, which scans every face), and a 1000-layer sweep
+//!   over its height (no plane meets a vertex ring);
 //! - `steps_50k`: the CAD-like stepped part (about 50 000 triangles, flats
 //!   at every `k * 1.25`): one layer at a flat, and a 1000-layer sweep
 //!   (`layers::slice_levels`, one thread, levels `k * 0.125`, so every
 //!   tenth level lies on the flats);
-//! - with `WMSLICE_BENCH_SLOW=1` also a 1000-layer sweep of the torus,
-//!   left out by default: its exact contour areas make one sweep take
-//!   minutes today (see `bench/RESULTS.md`).
 //!
 //! ```sh
 //! cargo bench --bench kernel                  # about two minutes
@@ -75,12 +73,10 @@ fn torus(c: &mut Criterion) {
     g.bench_function("one_layer", |b| {
         b.iter(|| black_box(slicer.slice_at(black_box(&mid)).expect("slice")))
     });
-    if std::env::var_os("WMSLICE_BENCH_SLOW").is_some() {
-        let levels = spread_levels(&mesh, 1000);
-        g.bench_function("sweep_1000_layers", |b| {
-            b.iter(|| black_box(sweep(&slicer, &levels)))
-        });
-    }
+    let levels = spread_levels(&mesh, 1000);
+    g.bench_function("sweep_1000_layers", |b| {
+        b.iter(|| black_box(sweep(&slicer, &levels)))
+    });
     g.finish();
 }
 
