@@ -3,6 +3,8 @@
 //! writer/reader pair gives back the same mesh, coordinate for coordinate,
 //! with the same exact signed volume, and that saving is atomic.
 
+mod common;
+
 use std::path::Path;
 
 use num_rational::BigRational;
@@ -13,30 +15,7 @@ use wmslice::mesh::io::{
 use wmslice::mesh::Mesh;
 
 fn cube() -> Mesh {
-    let p = vec![
-        [0.0, 0.0, 0.0],
-        [1.0, 0.0, 0.0],
-        [1.0, 1.0, 0.0],
-        [0.0, 1.0, 0.0],
-        [0.0, 0.0, 1.0],
-        [1.0, 0.0, 1.0],
-        [1.0, 1.0, 1.0],
-        [0.0, 1.0, 1.0],
-    ];
-    let f = vec![
-        [0, 2, 1],
-        [0, 3, 2],
-        [4, 5, 6],
-        [4, 6, 7],
-        [0, 1, 5],
-        [0, 5, 4],
-        [1, 2, 6],
-        [1, 6, 5],
-        [2, 3, 7],
-        [2, 7, 6],
-        [3, 0, 4],
-        [3, 4, 7],
-    ];
+    let (p, f) = common::unit_box(1.0);
     Mesh::from_raw(p, f)
 }
 

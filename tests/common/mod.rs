@@ -28,23 +28,20 @@ pub fn slab() -> impl Strategy<Value = Slab> {
     })
 }
 
-/// A unit cube as OFF text, its top at `z_top` (a CAD export's f32 `0.6`
-/// is `0.60000002...`): outward counter-clockwise faces.
-pub fn cad_cube_off(z_top: f64) -> String {
-    let mut s = String::from("OFF\n8 12 0\n");
-    for (x, y, z) in [
-        (0., 0., 0.),
-        (1., 0., 0.),
-        (1., 1., 0.),
-        (0., 1., 0.),
-        (0., 0., z_top),
-        (1., 0., z_top),
-        (1., 1., z_top),
-        (0., 1., z_top),
-    ] {
-        s += &format!("{x:?} {y:?} {z:?}\n");
-    }
-    for f in [
+/// A box `[0, 1]^2 x [0, z_top]`: corners, then outward counter-clockwise
+/// faces.
+pub fn unit_box(z_top: f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let p = vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, z_top],
+        [1.0, 0.0, z_top],
+        [1.0, 1.0, z_top],
+        [0.0, 1.0, z_top],
+    ];
+    let f = vec![
         [0, 2, 1],
         [0, 3, 2],
         [4, 5, 6],
@@ -57,8 +54,20 @@ pub fn cad_cube_off(z_top: f64) -> String {
         [2, 7, 6],
         [3, 0, 4],
         [3, 4, 7],
-    ] {
-        s += &format!("3 {} {} {}\n", f[0], f[1], f[2]);
+    ];
+    (p, f)
+}
+
+/// The unit box as OFF text, its top at `z_top` (a CAD export's f32 `0.6`
+/// is `0.60000002...`).
+pub fn cad_cube_off(z_top: f64) -> String {
+    let (p, f) = unit_box(z_top);
+    let mut s = format!("OFF\n{} {} 0\n", p.len(), f.len());
+    for [x, y, z] in p {
+        s += &format!("{x:?} {y:?} {z:?}\n");
+    }
+    for [a, b, c] in f {
+        s += &format!("3 {a} {b} {c}\n");
     }
     s
 }
