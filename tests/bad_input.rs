@@ -5,9 +5,11 @@
 //! for `check`) naming the defect, and no output file and no certificate
 //! left behind when it fails.
 
+mod common;
+use common::wmslice;
+
 use std::io::Write;
 use std::path::Path;
-use std::process::Command;
 
 const TETRA_POS: [[f64; 3]; 4] = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]];
 const TETRA: [[u32; 3]; 4] = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
@@ -258,18 +260,6 @@ fn rows() -> Vec<Row> {
             "written without --exact",
         ),
     ]
-}
-
-fn wmslice(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_wmslice"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
 }
 
 fn s(p: &Path) -> &str {

@@ -3,11 +3,13 @@
 //! parsed back with quick-xml), and that `slice --format svg|html` writes
 //! the files where asked, atomically.
 
+mod common;
+use common::wmslice as run;
+
 use quick_xml::events::{BytesStart, Event};
 use quick_xml::XmlVersion;
 use std::collections::HashMap;
 use std::path::Path;
-use std::process::Command;
 use wmslice::exact::parse_rational;
 use wmslice::output::html::{viewer, Counts, ViewerLayer, ViewerOptions};
 use wmslice::output::svg::{level_file_name, level_svg, Scene, SvgOptions};
@@ -393,18 +395,6 @@ fn viewer_is_self_contained_and_embeds_every_layer() {
     assert!(l[1]["svg"].as_str().unwrap().contains("class=\"f up\""));
     let c = Counts::of(&b);
     assert_eq!((c.f_up, c.df, c.lminus_outer, c.lplus_outer), (1, 1, 1, 0));
-}
-
-fn run(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_wmslice"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
 }
 
 fn tmp(tag: &str) -> std::path::PathBuf {

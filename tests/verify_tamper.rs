@@ -5,7 +5,9 @@
 //! passes the clean result and catches every mutation, with the expected
 //! kind of violation at the expected place.
 
-use std::process::Command;
+mod common;
+use common::wmslice;
+
 use wmslice::exact::parse_rational;
 use wmslice::exact::rational::{rat_from_f64, rat_to_string};
 use wmslice::output::json::{to_json, Exactness, MeshHeader};
@@ -394,18 +396,6 @@ fn rational_not_in_lowest_terms_is_caught() {
         r.violations[0].problem,
         Problem::NotCanonical { .. }
     ));
-}
-
-fn wmslice(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_wmslice"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
 }
 
 #[test]

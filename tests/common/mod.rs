@@ -71,3 +71,16 @@ pub fn cad_cube_off(z_top: f64) -> String {
     }
     s
 }
+
+/// Runs the `wmslice` binary: exit code (-1 when killed), stdout, stderr.
+pub fn wmslice(args: &[&str]) -> (i32, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_wmslice"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
