@@ -132,6 +132,17 @@ fn progress(len: usize, quiet: bool) -> ProgressBar {
     bar
 }
 
+/// A spinner naming a long step before the levels (reading, welding,
+/// validating a large mesh takes seconds); hidden like the bar.
+fn step(message: &'static str, quiet: bool) -> ProgressBar {
+    if quiet || !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let spinner = ProgressBar::new_spinner().with_message(message);
+    spinner.enable_steady_tick(std::time::Duration::from_millis(120));
+    spinner
+}
+
 fn sweep_error(e: SweepError<std::io::Error>) -> Failure {
     match e {
         SweepError::Slice { source, .. } => slice_error(source),
@@ -147,7 +158,10 @@ fn sweep_error(e: SweepError<std::io::Error>) -> Failure {
 pub fn run(a: SliceArgs) -> Result<(), Failure> {
     let explicit = parse_levels(&a)?;
     let uniform = parse_uniform(&a)?;
-    let input = load_input(&a.mesh, a.snap.as_deref())?;
+    let loading = step("reading and welding the mesh", a.quiet);
+    let input = load_input(&a.mesh, a.snap.as_deref());
+    loading.finish_and_clear();
+    let input = input?;
     if !a.quiet {
         for n in &input.notes {
             eprintln!("note: {n}");
@@ -168,7 +182,10 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
         }
         return slice_naive(&a, &input, &levels);
     }
-    let slicer = Slicer::with_unit(&input.mesh, unit).map_err(slice_error)?;
+    let validating = step("validating the mesh and building its topology", a.quiet);
+    let slicer = Slicer::with_unit(&input.mesh, unit);
+    validating.finish_and_clear();
+    let slicer = slicer.map_err(slice_error)?;
     let threads = a
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
