@@ -8,9 +8,9 @@
 //! ```
 //!
 //! `load_s`: read, parse and weld the file; `build_s`: validation and
-//! topology (`Slicer::new`); `slice_s`: `layers::slice_levels` alone (the
-//! median of `R` runs, default 1), results dropped after counting, nothing
-//! written out.
+//! topology (`Slicer::new`, on `--threads` workers); `slice_s`:
+//! `layers::slice_levels` alone (the median of `R` runs, default 1),
+//! results dropped after counting, nothing written out.
 
 use std::time::Instant;
 use wmslice::exact::parse_rational;
@@ -44,7 +44,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let load_s = t.elapsed().as_secs_f64();
 
     let t = Instant::now();
-    let slicer = Slicer::new(&mesh)?;
+    // Validation uses the same number of threads as the slicing.
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()?;
+    let slicer = pool.install(|| Slicer::new(&mesh))?;
     let build_s = t.elapsed().as_secs_f64();
 
     let zs = mesh.positions.iter().map(|p| p[2]);

@@ -58,7 +58,10 @@ fn measure(
 ) -> Result<Row, Box<dyn std::error::Error>> {
     let mesh = b.to_mesh();
     let t = Instant::now();
-    let slicer = Slicer::new(&mesh)?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()?;
+    let slicer = pool.install(|| Slicer::new(&mesh))?;
     let build_s = t.elapsed().as_secs_f64();
     let (lo, hi) = b.z_range();
     let (first, height) = plan(shape, lo, hi, layers);

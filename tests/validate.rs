@@ -273,3 +273,61 @@ fn snapping_that_flattens_a_sliver_is_caught_and_named() {
         "{text}"
     );
 }
+
+#[test]
+fn validation_reports_the_same_on_one_and_on_several_threads() {
+    // Volume, duplicates, topology, zero-area faces and folds are found by
+    // passes that run side by side on a pool: the report must not depend
+    // on its size.
+    let mut duplicated = tetra();
+    duplicated.faces.push(duplicated.faces[2]);
+    duplicated.faces.push(duplicated.faces[0]);
+    let mut pos = TETRA_POS.to_vec();
+    pos.push([0.5, 0., 0.]);
+    pos[3] = [0.25, 0.25, 0.0];
+    let flat_with_sliver = Mesh::from_raw(
+        pos,
+        vec![
+            [0, 2, 1],
+            [0, 1, 4],
+            [0, 4, 3],
+            [4, 1, 3],
+            [0, 3, 2],
+            [1, 2, 3],
+        ],
+    );
+    let on = |m: &Mesh, threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| validate(m))
+    };
+    let mut kinds = Vec::new();
+    for m in [&duplicated, &flat_with_sliver] {
+        let one = on(m, 1);
+        for d in &one.defects {
+            kinds.push(std::mem::discriminant(d));
+        }
+        for threads in [2, 3] {
+            let many = on(m, threads);
+            assert_eq!(many.defects, one.defects);
+            assert_eq!(many.stats, one.stats);
+        }
+    }
+    // The meshes exercise every parallel pass's defect kind.
+    for kind in [
+        Defect::DuplicateFace {
+            face: f(0),
+            first: f(0),
+        },
+        Defect::ZeroAreaFace { face: f(0) },
+        Defect::Fold {
+            a: v(0),
+            b: v(0),
+            faces: vec![],
+        },
+    ] {
+        assert!(kinds.contains(&std::mem::discriminant(&kind)), "{kind:?}");
+    }
+}

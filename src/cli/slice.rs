@@ -182,13 +182,21 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
         }
         return slice_naive(&a, &input, &levels);
     }
-    let validating = step("validating the mesh and building its topology", a.quiet);
-    let slicer = Slicer::with_unit(&input.mesh, unit);
-    validating.finish_and_clear();
-    let slicer = slicer.map_err(slice_error)?;
     let threads = a
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    // Validation runs its independent passes on `threads` workers too.
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| Failure {
+            code: ExitCode::Internal,
+            error: anyhow::anyhow!("cannot start worker threads: {e}"),
+        })?;
+    let validating = step("validating the mesh and building its topology", a.quiet);
+    let slicer = pool.install(|| Slicer::with_unit(&input.mesh, unit));
+    validating.finish_and_clear();
+    let slicer = slicer.map_err(slice_error)?;
     let bar = progress(levels.len(), a.quiet);
     let ex = if a.exact {
         Exactness::WithExact

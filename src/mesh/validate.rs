@@ -275,11 +275,6 @@ pub fn validate(mesh: &Mesh) -> Report {
         }
     }
 
-    let volume = if structural {
-        signed_volume(mesh)
-    } else {
-        Rat::default()
-    };
     let bounding_box = bounding_box(mesh);
     let mut stats = Stats {
         vertices: nv,
@@ -289,20 +284,29 @@ pub fn validate(mesh: &Mesh) -> Report {
         euler_characteristic: 0,
         genus: None,
         bounding_box,
-        volume: rat_to_string(&volume),
+        volume: rat_to_string(&Rat::default()),
     };
     if !structural {
         return Report {
             stats,
             defects: sink.defects,
             unlisted: sink.unlisted,
-            volume,
+            volume: Rat::default(),
             topology: None,
         };
     }
 
-    duplicate_faces(mesh, &mut sink);
-    let (topo, issues) = Topology::build(mesh);
+    // Three independent passes, on the caller's rayon pool (one thread:
+    // one after the other); defects are reported in the same order either
+    // way.
+    let (volume, (duplicates, (topo, issues))) = rayon::join(
+        || signed_volume(mesh),
+        || rayon::join(|| duplicate_faces(mesh), || Topology::build(mesh)),
+    );
+    stats.volume = rat_to_string(&volume);
+    for d in duplicates {
+        sink.push(d);
+    }
     let closed_manifold = issues.is_empty();
     report_topology_issues(mesh, issues, &mut sink);
 
@@ -324,16 +328,18 @@ pub fn validate(mesh: &Mesh) -> Report {
         }
     }
     if finite {
-        for (f, tri) in mesh.faces.iter().enumerate() {
-            let [a, b, c] = tri.map(|v| mesh.pos(v));
-            if is_degenerate_triangle(a, b, c) {
-                sink.push(Defect::ZeroAreaFace {
-                    face: FaceId::from_idx(f),
-                });
-            }
-        }
-        if closed_manifold {
-            folds(mesh, &topo, &mut sink);
+        let (zero_area, folded) = rayon::join(
+            || zero_area_faces(mesh),
+            || {
+                if closed_manifold {
+                    folds(mesh, &topo)
+                } else {
+                    Vec::new()
+                }
+            },
+        );
+        for d in zero_area.into_iter().chain(folded) {
+            sink.push(d);
         }
     }
     if closed_manifold && finite && !mesh.faces.is_empty() && !volume.is_positive() {
@@ -374,14 +380,16 @@ fn bounding_box(mesh: &Mesh) -> Option<[[f64; 3]; 2]> {
     Some(bb)
 }
 
-fn duplicate_faces(mesh: &Mesh, sink: &mut Sink) {
+/// Faces with the same three vertices as an earlier face, in face order.
+fn duplicate_faces(mesh: &Mesh) -> Vec<Defect> {
     let mut seen: HashMap<[VertexId; 3], FaceId> = HashMap::with_capacity(mesh.num_faces());
+    let mut found = Vec::new();
     for (f, tri) in mesh.faces.iter().enumerate() {
         let mut key = *tri;
         key.sort_unstable();
         let face = FaceId::from_idx(f);
         match seen.entry(key) {
-            std::collections::hash_map::Entry::Occupied(e) => sink.push(Defect::DuplicateFace {
+            std::collections::hash_map::Entry::Occupied(e) => found.push(Defect::DuplicateFace {
                 face,
                 first: *e.get(),
             }),
@@ -390,6 +398,7 @@ fn duplicate_faces(mesh: &Mesh, sink: &mut Sink) {
             }
         }
     }
+    found
 }
 
 fn report_topology_issues(mesh: &Mesh, issues: Vec<TopologyIssue>, sink: &mut Sink) {
@@ -450,10 +459,25 @@ fn report_topology_issues(mesh: &Mesh, issues: Vec<TopologyIssue>, sink: &mut Si
     }
 }
 
-/// Two faces on an edge, coplanar (exact orient3d), with their third
-/// vertices on the same side of the edge within that plane (exact orient2d
-/// in a projection where the first face is not degenerate).
-fn folds(mesh: &Mesh, topo: &Topology, sink: &mut Sink) {
+/// Faces of zero area, in face order.
+fn zero_area_faces(mesh: &Mesh) -> Vec<Defect> {
+    (0..mesh.num_faces())
+        .filter(|&f| {
+            let [a, b, c] = mesh.faces[f].map(|v| mesh.pos(v));
+            is_degenerate_triangle(a, b, c)
+        })
+        .map(|f| Defect::ZeroAreaFace {
+            face: FaceId::from_idx(f),
+        })
+        .collect()
+}
+
+/// Edges whose two faces fold onto each other, in edge order: two faces
+/// on an edge, coplanar (exact orient3d), with their third vertices on the
+/// same side of the edge within that plane (exact orient2d in a projection
+/// where the first face is not degenerate).
+fn folds(mesh: &Mesh, topo: &Topology) -> Vec<Defect> {
+    let mut found = Vec::new();
     for e in &topo.edges {
         let a = mesh.pos(e.v[0]);
         let b = mesh.pos(e.v[1]);
@@ -472,7 +496,7 @@ fn folds(mesh: &Mesh, topo: &Topology, sink: &mut Sink) {
             if orient2d_axes(a, b, c, i, j) == orient2d_axes(a, b, d, i, j) {
                 let mut faces = e.faces.to_vec();
                 faces.sort_unstable();
-                sink.push(Defect::Fold {
+                found.push(Defect::Fold {
                     a: e.v[0],
                     b: e.v[1],
                     faces,
@@ -480,6 +504,7 @@ fn folds(mesh: &Mesh, topo: &Topology, sink: &mut Sink) {
             }
         }
     }
+    found
 }
 
 fn components(mesh: &Mesh, topo: &Topology) -> usize {
