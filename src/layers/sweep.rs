@@ -40,24 +40,38 @@ pub enum SweepError<E: std::error::Error + 'static> {
     Threads(String),
 }
 
-/// Faces ordered by lowest height, with each face's highest height.
+/// Each face filed under the first level at or above its lowest height
+/// (found by binary search over the levels: O(n log k) for n faces and k
+/// levels, no sort), with each face's highest height. Faces above the
+/// last level, or strictly between two levels, touch no level and are
+/// left out at once.
 struct Heights {
-    by_min: Vec<(f64, FaceId)>,
+    grid: Vec<Level>,
+    entering: Vec<Vec<FaceId>>,
     max: Vec<f64>,
 }
 
 impl Heights {
-    fn new(slicer: &Slicer<'_>) -> Self {
+    fn new(slicer: &Slicer<'_>, levels: &[Rat]) -> Self {
         let mesh = slicer.mesh();
-        let mut by_min = Vec::with_capacity(mesh.num_faces());
+        let grid: Vec<Level> = levels.iter().map(|c| slicer.grid_level(c)).collect();
+        let mut entering = vec![Vec::new(); grid.len()];
         let mut max = Vec::with_capacity(mesh.num_faces());
         for (f, tri) in mesh.faces.iter().enumerate() {
             let z = tri.map(|v| mesh.positions[v.idx()][2]);
-            by_min.push((z[0].min(z[1]).min(z[2]), FaceId::from_idx(f)));
-            max.push(z[0].max(z[1]).max(z[2]));
+            let (lo, hi) = (z[0].min(z[1]).min(z[2]), z[0].max(z[1]).max(z[2]));
+            max.push(hi);
+            // Levels below the face's lowest point: z_min > c, exactly.
+            let first = grid.partition_point(|l| l.sign_of(lo) == Sign::Positive);
+            if first < grid.len() && grid[first].sign_of(hi) != Sign::Negative {
+                entering[first].push(FaceId::from_idx(f));
+            }
         }
-        by_min.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        Heights { by_min, max }
+        Heights {
+            grid,
+            entering,
+            max,
+        }
     }
 }
 
@@ -69,27 +83,31 @@ struct Sweep<'h> {
 }
 
 impl<'h> Sweep<'h> {
-    /// Moves the plane up to `level` and returns the faces touching it,
-    /// ascending. Levels must come in ascending order.
-    fn advance(&mut self, level: &Level) -> Vec<FaceId> {
-        let by_min = &self.heights.by_min;
-        while self.next < by_min.len() && level.sign_of(by_min[self.next].0) != Sign::Positive {
-            self.active.push(by_min[self.next].1);
-            self.next += 1;
+    /// Moves the plane up to level `index` and returns the faces touching
+    /// it, ascending. Indices must come in ascending order.
+    fn advance(&mut self, index: usize) -> Vec<FaceId> {
+        let h = self.heights;
+        for faces in &h.entering[self.next.min(index + 1)..=index] {
+            self.active.extend_from_slice(faces);
         }
-        let max = &self.heights.max;
+        self.next = self.next.max(index + 1);
+        let level = &h.grid[index];
         self.active
-            .retain(|f| level.sign_of(max[f.idx()]) != Sign::Negative);
+            .retain(|f| level.sign_of(h.max[f.idx()]) != Sign::Negative);
         let mut sorted = self.active.clone();
         sorted.sort_unstable();
         sorted
     }
 
-    /// Advances to `c` and slices it.
-    fn slice(&mut self, slicer: &Slicer<'_>, c: &Rat) -> Result<LevelSet, SliceError> {
-        let grid = slicer.grid_level(c);
-        let active = self.advance(&grid);
-        slicer.slice_active(c, &grid, &active)
+    /// Advances to level `index` (`c` in the mesh's units) and slices it.
+    fn slice(
+        &mut self,
+        slicer: &Slicer<'_>,
+        index: usize,
+        c: &Rat,
+    ) -> Result<LevelSet, SliceError> {
+        let active = self.advance(index);
+        slicer.slice_active(c, &self.heights.grid[index], &active)
     }
 }
 
@@ -106,7 +124,7 @@ where
     S: FnMut(usize, LevelSet) -> Result<(), E>,
 {
     let threads = threads.clamp(1, levels.len().max(1));
-    let heights = Heights::new(slicer);
+    let heights = Heights::new(slicer, levels);
     let new_sweep = || Sweep {
         heights: &heights,
         next: 0,
@@ -114,8 +132,8 @@ where
     };
     let worker = |t: usize, tx: std::sync::mpsc::SyncSender<Result<LevelSet, SliceError>>| {
         let mut sweep = new_sweep();
-        for c in levels.iter().skip(t).step_by(threads) {
-            let result = sweep.slice(slicer, c);
+        for (index, c) in levels.iter().enumerate().skip(t).step_by(threads) {
+            let result = sweep.slice(slicer, index, c);
             let failed = result.is_err();
             if tx.send(result).is_err() || failed {
                 return;
@@ -127,7 +145,7 @@ where
         let mut sweep = new_sweep();
         for (index, c) in levels.iter().enumerate() {
             let ls = sweep
-                .slice(slicer, c)
+                .slice(slicer, index, c)
                 .map_err(|source| SweepError::Slice { index, source })?;
             sink(index, ls).map_err(SweepError::Sink)?;
         }
