@@ -172,12 +172,13 @@ fn duplicate_faces_are_named() {
     );
 }
 
-#[test]
-fn zero_area_faces_are_reported_but_accepted() {
-    // Vertex 4 at the midpoint of edge 0-1; face [0, 1, 4] has zero area.
+/// The tetrahedron with vertex 3 at `apex` and a vertex 4 at the midpoint
+/// of edge 0-1, so that face 1 = [0, 1, 4] has zero area.
+fn with_sliver(apex: [f64; 3]) -> Mesh {
     let mut pos = TETRA_POS.to_vec();
+    pos[3] = apex;
     pos.push([0.5, 0., 0.]);
-    let m = Mesh::from_raw(
+    Mesh::from_raw(
         pos,
         vec![
             [0, 2, 1],
@@ -187,8 +188,12 @@ fn zero_area_faces_are_reported_but_accepted() {
             [0, 3, 2],
             [1, 2, 3],
         ],
-    );
-    let r = validate(&m);
+    )
+}
+
+#[test]
+fn zero_area_faces_are_reported_but_accepted() {
+    let r = validate(&with_sliver(TETRA_POS[3]));
     assert!(r.is_accepted(), "{r}");
     assert_eq!(r.defects, vec![Defect::ZeroAreaFace { face: f(1) }]);
 }
@@ -282,20 +287,7 @@ fn validation_reports_the_same_on_one_and_on_several_threads() {
     let mut duplicated = tetra();
     duplicated.faces.push(duplicated.faces[2]);
     duplicated.faces.push(duplicated.faces[0]);
-    let mut pos = TETRA_POS.to_vec();
-    pos.push([0.5, 0., 0.]);
-    pos[3] = [0.25, 0.25, 0.0];
-    let flat_with_sliver = Mesh::from_raw(
-        pos,
-        vec![
-            [0, 2, 1],
-            [0, 1, 4],
-            [0, 4, 3],
-            [4, 1, 3],
-            [0, 3, 2],
-            [1, 2, 3],
-        ],
-    );
+    let flat_with_sliver = with_sliver([0.25, 0.25, 0.0]);
     let on = |m: &Mesh, threads: usize| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
