@@ -2,15 +2,11 @@
 //! `cargo run --release --example nest_scale -- 10000`.
 
 use std::time::Instant;
-use wmslice::exact::rational::Rat;
-use wmslice::exact::Point2;
+use wmslice::exact::point::LoopPoint;
 use wmslice::nest::nest;
 
-fn square(x: i64, y: i64, s: i64) -> Vec<Point2> {
-    let p = |x: i64, y: i64| Point2 {
-        x: Rat::from_integer(x.into()),
-        y: Rat::from_integer(y.into()),
-    };
+fn square(x: i64, y: i64, s: i64) -> Vec<LoopPoint> {
+    let p = |x: i64, y: i64| LoopPoint::from_integers(x.into(), y.into(), 1, 0).unwrap();
     vec![p(x, y), p(x + s, y), p(x + s, y + s), p(x, y + s)]
 }
 
@@ -21,7 +17,7 @@ fn main() {
         .unwrap_or(10_000);
     for k in [n / 4, n] {
         let side = (k as f64).sqrt().ceil() as i64;
-        let loops: Vec<Vec<Point2>> = (0..k)
+        let loops: Vec<Vec<LoopPoint>> = (0..k)
             .map(|i| square(3 * (i % side), 3 * (i / side), 2))
             .collect();
         let t = Instant::now();

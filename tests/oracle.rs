@@ -196,7 +196,9 @@ fn the_comparison_detects_corrupted_answers() {
             mutants.push(("a contour loop dropped", m));
             let mut m = ls.clone();
             let p = &mut std::sync::Arc::make_mut(&mut m.contours)[0].points[0];
-            p.x += Rat::new(1.into(), 1024.into());
+            let mut moved = p.exact().into_owned();
+            moved.x += Rat::new(1.into(), 1024.into());
+            *p = moved.into();
             mutants.push(("a contour point moved", m));
         }
         if !ls.saddles.is_empty() {

@@ -267,9 +267,9 @@ pub fn heights_and_midpoints(mesh: &Mesh) -> Vec<Rat> {
 }
 
 /// Checks that every point on an edge of every loop (S_O, L-, L+) of `ls`
-/// equals the big-rational reference crossing, and that the fast path
-/// [`Point2::on_edge`] returns the same reduced rational as
-/// [`Point2::on_edge_reference`].
+/// equals the big-rational reference crossing and rounds to the same
+/// doubles, and that the fast path [`Point2::on_edge`] returns the same
+/// reduced rational as [`Point2::on_edge_reference`].
 pub fn check_edge_points(slicer: &Slicer<'_>, ls: &LevelSet) -> Result<(), String> {
     let mesh = slicer.mesh();
     let level = Level::new(ls.level.clone());
@@ -283,8 +283,15 @@ pub fn check_edge_points(slicer: &Slicer<'_>, ls: &LevelSet) -> Result<(), Strin
                 let [a, b] = slicer.topology().edge(e).v;
                 let (pa, pb) = (mesh.pos(a), mesh.pos(b));
                 let reference = Point2::on_edge_reference(pa, pb, &level);
+                if p.to_f64() != reference.to_f64() {
+                    return Err(format!(
+                        "{what} loop {li}, edge {e}: rounded to {:?}, the reference to {:?}",
+                        p.to_f64(),
+                        reference.to_f64()
+                    ));
+                }
                 for (name, fast) in [
-                    ("slicer", p.clone()),
+                    ("slicer", p.exact().into_owned()),
                     ("on_edge(a, b)", Point2::on_edge(pa, pb, &level)),
                     ("on_edge(b, a)", Point2::on_edge(pb, pa, &level)),
                 ] {

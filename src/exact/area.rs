@@ -11,7 +11,7 @@
 //! by a big gcd.
 
 use super::dyadic::Dyadic;
-use super::point::Point2;
+use super::point::{LoopPoint, Point2};
 use super::rational::{decompose, rat_to_f64, Rat};
 use num_bigint::{BigInt, BigUint};
 use num_integer::Integer;
@@ -24,21 +24,37 @@ struct Homogeneous {
     d: BigInt,
 }
 
-impl Homogeneous {
-    fn of(p: &Point2) -> Self {
-        let (dx, dy) = (p.x.denom(), p.y.denom());
+/// An exact point the shoelace can take: written over one denominator.
+pub trait ExactPoint {
+    /// `(X, Y, D)` with the point `(X / D, Y / D)`, `D > 0`.
+    fn over_one_denominator(&self) -> (BigInt, BigInt, BigInt);
+}
+
+impl ExactPoint for Point2 {
+    fn over_one_denominator(&self) -> (BigInt, BigInt, BigInt) {
+        let (dx, dy) = (self.x.denom(), self.y.denom());
         if dx == dy {
-            return Homogeneous {
-                x: p.x.numer().clone(),
-                y: p.y.numer().clone(),
-                d: dx.clone(),
-            };
+            return (self.x.numer().clone(), self.y.numer().clone(), dx.clone());
         }
         let d = dx.lcm(dy);
-        Homogeneous {
-            x: p.x.numer() * (&d / dx),
-            y: p.y.numer() * (&d / dy),
-            d,
+        (self.x.numer() * (&d / dx), self.y.numer() * (&d / dy), d)
+    }
+}
+
+impl ExactPoint for LoopPoint {
+    fn over_one_denominator(&self) -> (BigInt, BigInt, BigInt) {
+        match self.as_integers() {
+            Some((x, y, w, e)) if e >= 0 => (
+                BigInt::from(x) << e as u32,
+                BigInt::from(y) << e as u32,
+                BigInt::from(w),
+            ),
+            Some((x, y, w, e)) => (
+                BigInt::from(x),
+                BigInt::from(y),
+                BigInt::from(w) << e.unsigned_abs(),
+            ),
+            None => self.exact().over_one_denominator(),
         }
     }
 }
@@ -46,13 +62,15 @@ impl Homogeneous {
 /// Exact signed area of a closed polygon (shoelace): positive when
 /// counter-clockwise. Exact for any rational points; equal to
 /// [`signed_area_reference`] (property-tested).
-pub fn signed_area(points: &[Point2]) -> Rat {
+pub fn signed_area<P: ExactPoint>(points: &[P]) -> Rat {
     total_signed_area([points])
 }
 
 /// The exact sum of the signed areas of closed polygons (the area a
 /// family of nested loops encloses), reduced once at the end.
-pub fn total_signed_area<'a>(polygons: impl IntoIterator<Item = &'a [Point2]>) -> Rat {
+pub fn total_signed_area<'a, P: ExactPoint + 'a>(
+    polygons: impl IntoIterator<Item = &'a [P]>,
+) -> Rat {
     AreaSum::of(polygons).reduce()
 }
 
@@ -68,7 +86,7 @@ pub struct AreaSum {
 
 impl AreaSum {
     /// The summed signed area of closed polygons.
-    pub fn of<'a>(polygons: impl IntoIterator<Item = &'a [Point2]>) -> AreaSum {
+    pub fn of<'a, P: ExactPoint + 'a>(polygons: impl IntoIterator<Item = &'a [P]>) -> AreaSum {
         let mut parts: Vec<(BigInt, BigInt)> = Vec::new();
         let mut factors: Vec<BigUint> = vec![BigUint::from(2u8)];
         for points in polygons {
@@ -77,7 +95,13 @@ impl AreaSum {
                 // Two points bound nothing: the two terms cancel.
                 continue;
             }
-            let h: Vec<Homogeneous> = points.iter().map(Homogeneous::of).collect();
+            let h: Vec<Homogeneous> = points
+                .iter()
+                .map(|p| {
+                    let (x, y, d) = p.over_one_denominator();
+                    Homogeneous { x, y, d }
+                })
+                .collect();
             // Twice the area of the open chain 0..n-1, over the product of all D.
             let (chain, product) = chain_sum(&h, 0, n - 1);
             let (first, last) = (&h[0], &h[n - 1]);

@@ -1,15 +1,16 @@
-//! Input: exact rational points. Output: the exact sign of orient2d, fast.
+//! Input: exact points. Output: the exact sign of orient2d, fast.
 //!
 //! A floating-point filter: every exact value is enclosed in an interval of
-//! doubles (the nearest double, widened by one ulp each way), and every
+//! doubles (for a point held as integers `x 2^e / w`: the quotient of the
+//! two rounded integers, widened by 8 ulps of relative error against at
+//! most 4; otherwise the nearest double, widened by one ulp), and every
 //! operation widens its rounded result outward by one ulp, so the computed
 //! interval always contains the exact determinant. When it excludes zero,
 //! its sign is the exact sign; otherwise the exact rational determinant
 //! decides. Property-tested against the plain rational predicate.
 
-use super::point::Point2;
+use super::point::LoopPoint;
 use super::predicates::{orient2d_rat, Sign};
-use super::rational::rat_to_f64;
 
 /// A closed interval of doubles known to contain an exact value.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -27,6 +28,29 @@ impl Interval {
             lo: f.next_down(),
             hi: f.next_up(),
         }
+    }
+
+    /// An interval around `n 2^e / w` (`w > 0`) from one rounded
+    /// division: `n` and `w` are rounded to doubles and divided (relative
+    /// error below `4u`, `u = 2^-53`), then widened by `8u |v|` (an exact
+    /// product) and one ulp each way. `None` outside the range where that
+    /// product is exact and nothing overflows.
+    #[inline]
+    fn around_ratio(n: i128, w: i128, e: i32) -> Option<Interval> {
+        if n == 0 {
+            return Some(Interval { lo: 0.0, hi: 0.0 });
+        }
+        if !(-900..=900).contains(&e) {
+            return None;
+        }
+        let scale = f64::from_bits(((e + 1023) as u64) << 52);
+        let v = (n as f64) / (w as f64) * scale;
+        let m = v.abs();
+        if !(1e-250..=1e250).contains(&m) {
+            return None;
+        }
+        let r = m * f64::from_bits((1023 - 50) << 52);
+        Some(Interval::widen(v - r, v + r))
     }
 
     #[inline]
@@ -79,29 +103,32 @@ impl Interval {
     }
 }
 
-/// The bits of a point's rounded coordinates: equal for equal points (so a
+/// The bits of a point's nearest doubles: equal for equal points (so a
 /// cheap hash key), possibly equal for distinct ones.
 pub type Key = (u64, u64);
 
 /// An exact point with interval enclosures of its coordinates, computed once.
 #[derive(Clone, Debug)]
 pub struct FilteredPoint<'a> {
-    exact: &'a Point2,
+    exact: &'a LoopPoint,
     x: Interval,
     y: Interval,
-    key: Key,
 }
 
 impl<'a> FilteredPoint<'a> {
     /// Encloses an exact point.
-    pub fn new(p: &'a Point2) -> Self {
-        let (x, y) = (rat_to_f64(&p.x), rat_to_f64(&p.y));
-        FilteredPoint {
-            exact: p,
-            x: Interval::around(x),
-            y: Interval::around(y),
-            key: ((x + 0.0).to_bits(), (y + 0.0).to_bits()),
-        }
+    pub fn new(p: &'a LoopPoint) -> Self {
+        let from_integers = p.as_integers().and_then(|(x, y, w, e)| {
+            Some((
+                Interval::around_ratio(x, w, e)?,
+                Interval::around_ratio(y, w, e)?,
+            ))
+        });
+        let (x, y) = from_integers.unwrap_or_else(|| {
+            let [x, y] = p.to_f64();
+            (Interval::around(x), Interval::around(y))
+        });
+        FilteredPoint { exact: p, x, y }
     }
 
     /// Doubles enclosing the exact point: `([x_lo, y_lo], [x_hi, y_hi])`.
@@ -109,13 +136,15 @@ impl<'a> FilteredPoint<'a> {
         ([self.x.lo, self.y.lo], [self.x.hi, self.y.hi])
     }
 
-    /// The rounded coordinates as a hash key.
+    /// The nearest doubles as a hash key (a correctly rounded division
+    /// per coordinate: computed on each call).
     pub fn key(&self) -> Key {
-        self.key
+        let [x, y] = self.exact.to_f64();
+        ((x + 0.0).to_bits(), (y + 0.0).to_bits())
     }
 
     /// The exact point.
-    pub fn exact(&self) -> &'a Point2 {
+    pub fn exact(&self) -> &'a LoopPoint {
         self.exact
     }
 }
@@ -127,7 +156,7 @@ pub fn cmp_y(a: &FilteredPoint<'_>, b: &FilteredPoint<'_>) -> std::cmp::Ordering
     } else if a.y.lo > b.y.hi {
         std::cmp::Ordering::Greater
     } else {
-        a.exact.y.cmp(&b.exact.y)
+        a.exact.exact().y.cmp(&b.exact.exact().y)
     }
 }
 
@@ -143,7 +172,7 @@ pub fn orient2d_filtered(
             .mul(c.y.sub(a.y))
             .sub(b.y.sub(a.y).mul(c.x.sub(a.x)));
     det.sign()
-        .unwrap_or_else(|| orient2d_rat(a.exact, b.exact, c.exact))
+        .unwrap_or_else(|| orient2d_rat(&a.exact.exact(), &b.exact.exact(), &c.exact.exact()))
 }
 
 /// A certified estimate of a polygon's signed area.
@@ -177,6 +206,7 @@ pub fn signed_area_filtered(points: &[FilteredPoint<'_>]) -> AreaEstimate {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::exact::point::Point2;
     use crate::exact::rational::Rat;
     use proptest::prelude::*;
 
@@ -206,7 +236,8 @@ mod tests {
                     p.y = &p.x * Rat::from_integer(3.into()) + Rat::new((i as i64 % 2).into(), (1i64 << 50).into());
                 }
             }
-            let f: Vec<FilteredPoint<'_>> = poly.iter().map(FilteredPoint::new).collect();
+            let held: Vec<LoopPoint> = poly.iter().cloned().map(LoopPoint::from).collect();
+            let f: Vec<FilteredPoint<'_>> = held.iter().map(FilteredPoint::new).collect();
             let est = signed_area_filtered(&f);
             let exact = crate::exact::area::signed_area_reference(&poly);
             if let Some(s) = est.sign {
@@ -220,8 +251,9 @@ mod tests {
         #[test]
         fn filtered_equals_exact_on_random_points(a in (frac(), frac()), b in (frac(), frac()), c in (frac(), frac())) {
             let (a, b, c) = (pt(a.0, a.1), pt(b.0, b.1), pt(c.0, c.1));
-            let f = |p| FilteredPoint::new(p);
-            prop_assert_eq!(orient2d_filtered(&f(&a), &f(&b), &f(&c)), orient2d_rat(&a, &b, &c));
+            let held = [&a, &b, &c].map(|p| LoopPoint::from(p.clone()));
+            let [fa, fb, fc] = [&held[0], &held[1], &held[2]].map(FilteredPoint::new);
+            prop_assert_eq!(orient2d_filtered(&fa, &fb, &fc), orient2d_rat(&a, &b, &c));
         }
 
         /// Points on one line (and one tiny step off it), where the filter
@@ -237,10 +269,52 @@ mod tests {
             let tiny = Rat::new(off.into(), (1i64 << 60).into());
             let near = Point2 { x: &on.x + &tiny, y: on.y.clone() };
             let far = Point2 { x: &p0.x + &d.x, y: &p0.y + &d.y };
-            let f = |p| FilteredPoint::new(p);
+            let [l0, lfar] = [&p0, &far].map(|p| LoopPoint::from(p.clone()));
             for c in [&on, &near] {
-                prop_assert_eq!(orient2d_filtered(&f(&p0), &f(&far), &f(c)), orient2d_rat(&p0, &far, c));
+                let lc = LoopPoint::from(c.clone());
+                let [f0, ffar, fc] = [&l0, &lfar, &lc].map(FilteredPoint::new);
+                prop_assert_eq!(orient2d_filtered(&f0, &ffar, &fc), orient2d_rat(&p0, &far, c));
             }
+        }
+
+        /// Points held as integers `(x 2^e / w, y 2^e / w)`: the enclosure
+        /// contains the exact coordinates, and orient2d (also three points
+        /// on a line, where the filter must give up) is the exact sign.
+        #[test]
+        fn integer_points_are_enclosed(
+            pts in proptest::collection::vec((proptest::num::i128::ANY, proptest::num::i128::ANY, 1i128..(1 << 100), 0u32..127), 3),
+            bits in proptest::collection::vec(1u32..127, 3), e in -1000i32..1000, collinear in proptest::bool::ANY
+        ) {
+            let mut held: Vec<LoopPoint> = pts.iter().zip(&bits).map(|(&(x, y, w, wb), &b)| {
+                let w = (w >> (wb % 100)).max(1);
+                LoopPoint::from_integers(x >> (128 - b), y >> (128 - b), w, e).unwrap()
+            }).collect();
+            if collinear {
+                // The midpoint of the first two, over the product of their w.
+                let (x0, y0, w0, _) = held[0].as_integers().unwrap();
+                let (x1, y1, w1, _) = held[1].as_integers().unwrap();
+                let small = |v: i128| v.unsigned_abs() < 1 << 60;
+                if [x0, y0, w0, x1, y1, w1].iter().all(|&v| small(v)) {
+                    held[2] = LoopPoint::from_integers(x0 * w1 + x1 * w0, y0 * w1 + y1 * w0, 2 * w0 * w1, e).unwrap();
+                }
+            }
+            for p in &held {
+                let f = FilteredPoint::new(p);
+                let exact = p.exact();
+                let (lo, hi) = f.bounds();
+                for (k, v) in [&exact.x, &exact.y].into_iter().enumerate() {
+                    if lo[k].is_finite() {
+                        prop_assert!(crate::exact::rational::rat_from_f64(lo[k]) <= *v);
+                    }
+                    if hi[k].is_finite() {
+                        prop_assert!(crate::exact::rational::rat_from_f64(hi[k]) >= *v);
+                    }
+                }
+            }
+            let f: Vec<FilteredPoint<'_>> = held.iter().map(FilteredPoint::new).collect();
+            let exact: Vec<Point2> = held.iter().map(|p| p.exact().into_owned()).collect();
+            prop_assert_eq!(orient2d_filtered(&f[0], &f[1], &f[2]), orient2d_rat(&exact[0], &exact[1], &exact[2]));
+            prop_assert_eq!(cmp_y(&f[0], &f[1]), exact[0].y.cmp(&exact[1].y));
         }
     }
 }

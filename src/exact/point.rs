@@ -1,11 +1,14 @@
-//! Input: mesh positions and an exact level. Output: exact rational points
-//! in the plane `z = c`, and their rounding for output.
+//! Input: mesh positions and an exact level. Output: exact points in the
+//! plane `z = c` ([`Point2`]: reduced rationals; [`LoopPoint`]: the same
+//! values kept as integers, built without a gcd or an allocation), and
+//! their rounding for output.
 
 use super::level::Level;
-use super::rational::decompose;
+use super::rational::{decompose, ratio_to_f64};
 use super::rational::{rat_from_f64, rat_to_f64, Rat};
 use num_bigint::BigInt;
 use num_traits::Zero;
+use std::borrow::Cow;
 
 /// A point of the plane `z = c` with exact rational coordinates.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -35,7 +38,10 @@ impl Point2 {
     /// integer gcd; otherwise, or on overflow, with big rationals. Both give
     /// the same reduced rational (property-tested).
     pub fn on_edge(a: [f64; 3], b: [f64; 3], level: &Level) -> Self {
-        on_edge_i128(a, b, level).unwrap_or_else(|| Self::on_edge_reference(a, b, level))
+        match crossing_i128(a, b, level) {
+            Some(h) => h.reduce(),
+            None => Self::on_edge_reference(a, b, level),
+        }
     }
 
     /// The crossing with big rationals only: the reference for the fast path.
@@ -146,9 +152,44 @@ fn shifted(v: i128, s: i32) -> BigInt {
     }
 }
 
-fn on_edge_i128(a: [f64; 3], b: [f64; 3], level: &Level) -> Option<Point2> {
+/// The point `(x 2^e / w, y 2^e / w)`, `0 < w < 2^126`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Scaled {
+    x: i128,
+    y: i128,
+    w: i128,
+    e: i32,
+}
+
+impl Scaled {
+    fn reduce(&self) -> Point2 {
+        Point2 {
+            x: reduced(self.x, self.w, self.e),
+            y: reduced(self.y, self.w, self.e),
+        }
+    }
+
+    fn to_f64(self) -> [f64; 2] {
+        let w = self.w as u128;
+        [
+            ratio_to_f64(self.x, w, self.e),
+            ratio_to_f64(self.y, w, self.e),
+        ]
+    }
+}
+
+/// The crossing of edge `(a, b)` with the level in `i128`, unreduced, or
+/// `None` when the inputs do not fit (overflow-checked).
+fn crossing_i128(a: [f64; 3], b: [f64; 3], level: &Level) -> Option<Scaled> {
+    let (k, e0) = common_ints([a[0], a[1], a[2], b[0], b[1], b[2]])?;
+    crossing_of_ints(k, e0, level)
+}
+
+/// The crossing from the ends' coordinates `k 2^e0` (every `|k| < 2^40`).
+#[inline]
+fn crossing_of_ints(k: [i128; 6], e0: i32, level: &Level) -> Option<Scaled> {
+    let [ax, ay, az, bx, by, bz] = k;
     let (p, q) = level.small()?;
-    let ([ax, ay, az, bx, by, bz], e0) = common_ints([a[0], a[1], a[2], b[0], b[1], b[2]])?;
     // In units of 2^e0 the level is p / (q 2^e0).
     let (p, q) = if e0 >= 0 {
         (p, shl_exact(q, e0)?)
@@ -167,13 +208,171 @@ fn on_edge_i128(a: [f64; 3], b: [f64; 3], level: &Level) -> Option<Point2> {
     };
     let (x, y) = (coord(ax, bx)?, coord(ay, by)?);
     let (x, y, w) = if w < 0 { (-x, -y, -w) } else { (x, y, w) };
-    if w == 0 {
+    if w == 0 || w >= 1 << 126 {
         return None;
     }
-    Some(Point2 {
-        x: reduced(x, w, e0),
-        y: reduced(y, w, e0),
-    })
+    Some(Scaled { x, y, w, e: e0 })
+}
+
+/// A mesh position as integers on its own binary grid, `(x, y, z) 2^e`
+/// with every `|k| < 2^40` (the bound of the `i128` crossing), computed
+/// once per vertex so that a crossing need not take its ends' doubles
+/// apart again. Exact.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct GridPosition {
+    k: [i64; 3],
+    /// `i32::MAX` for the origin.
+    e: i32,
+}
+
+impl GridPosition {
+    /// The position on its grid, or `None` when its coordinates span more
+    /// than 40 bits of one grid (or are not finite).
+    pub fn of(p: [f64; 3]) -> Option<Self> {
+        if p.iter().all(|&v| v == 0.0) {
+            return Some(GridPosition {
+                k: [0; 3],
+                e: i32::MAX,
+            });
+        }
+        let (k, e) = common_ints(p)?;
+        Some(GridPosition {
+            k: k.map(|v| v as i64),
+            e,
+        })
+    }
+
+    /// The exact point `(x, y)`.
+    pub fn point(&self) -> LoopPoint {
+        let e = if self.e == i32::MAX { 0 } else { self.e };
+        let [x, y, _] = self.k.map(i128::from);
+        LoopPoint(Repr::Scaled(Scaled { x, y, w: 1, e }))
+    }
+
+    /// The exact crossing of edge `(a, b)` with the level (see
+    /// [`Point2::on_edge`]), held as integers; `None` when they do not
+    /// fit. Identical to the crossing computed from the doubles.
+    pub fn crossing(a: &GridPosition, b: &GridPosition, level: &Level) -> Option<LoopPoint> {
+        let e0 = a.e.min(b.e);
+        let e0 = if e0 == i32::MAX { 0 } else { e0 };
+        let align = |g: &GridPosition| -> Option<[i128; 3]> {
+            if g.e == i32::MAX {
+                return Some([0; 3]);
+            }
+            let s = g.e - e0;
+            let mut out = [0i128; 3];
+            for (o, &k) in out.iter_mut().zip(&g.k) {
+                let v = shl_exact(i128::from(k), s)?;
+                if v.unsigned_abs() >= 1 << 40 {
+                    return None;
+                }
+                *o = v;
+            }
+            Some(out)
+        };
+        let ([ax, ay, az], [bx, by, bz]) = (align(a)?, align(b)?);
+        crossing_of_ints([ax, ay, az, bx, by, bz], e0, level).map(|h| LoopPoint(Repr::Scaled(h)))
+    }
+}
+
+/// An exact point of a loop (S_O, dF, L-, L+), stored compactly: as
+/// integers `(x 2^e / w, y 2^e / w)` when they fit in `i128` (every
+/// vertex and crossing of a mesh whose coordinates span at most 40 bits
+/// of one binary grid per edge, at a level that is a small fraction), else
+/// as reduced rationals. Both forms are exact; equality is by value.
+/// [`LoopPoint::exact`] gives the reduced rationals, [`LoopPoint::to_f64`]
+/// the nearest doubles.
+#[derive(Clone, Debug)]
+pub struct LoopPoint(Repr);
+
+#[derive(Clone, Debug)]
+enum Repr {
+    Scaled(Scaled),
+    Rational(Box<Point2>),
+}
+
+impl LoopPoint {
+    /// The exact `(x, y)` of a mesh position.
+    pub fn of_vertex(p: [f64; 3]) -> Self {
+        let on_grid = || {
+            let parts = [p[0], p[1]].map(decompose);
+            if !(p[0].is_finite() && p[1].is_finite()) {
+                return None;
+            }
+            let e = parts.iter().flatten().map(|&(_, e)| e).min().unwrap_or(0);
+            let [x, y] = parts.map(|q| q.map_or(Some(0), |(m, k)| shl_exact(m.into(), k - e)));
+            Some(Scaled {
+                x: x?,
+                y: y?,
+                w: 1,
+                e,
+            })
+        };
+        match on_grid() {
+            Some(h) => LoopPoint(Repr::Scaled(h)),
+            None => Point2::of_vertex(p).into(),
+        }
+    }
+
+    /// The exact crossing of edge `(a, b)` with the plane `z = c` (see
+    /// [`Point2::on_edge`]); the caller guarantees `h(a) != h(b)`.
+    pub fn on_edge(a: [f64; 3], b: [f64; 3], level: &Level) -> Self {
+        match crossing_i128(a, b, level) {
+            Some(h) => LoopPoint(Repr::Scaled(h)),
+            None => Point2::on_edge_reference(a, b, level).into(),
+        }
+    }
+
+    /// The exact point as reduced rationals.
+    pub fn exact(&self) -> Cow<'_, Point2> {
+        match &self.0 {
+            Repr::Scaled(h) => Cow::Owned(h.reduce()),
+            Repr::Rational(p) => Cow::Borrowed(p),
+        }
+    }
+
+    /// The nearest doubles (rounding for output only).
+    pub fn to_f64(&self) -> [f64; 2] {
+        match &self.0 {
+            Repr::Scaled(h) => h.to_f64(),
+            Repr::Rational(p) => p.to_f64(),
+        }
+    }
+
+    /// The point `(x 2^e / w, y 2^e / w)`, held as integers; `None` unless
+    /// `0 < w < 2^126`.
+    pub fn from_integers(x: i128, y: i128, w: i128, e: i32) -> Option<LoopPoint> {
+        (w > 0 && w < 1 << 126).then_some(LoopPoint(Repr::Scaled(Scaled { x, y, w, e })))
+    }
+
+    /// `(x, y, w, e)` with the point `(x 2^e / w, y 2^e / w)`, `w > 0`,
+    /// when it is held as integers.
+    pub fn as_integers(&self) -> Option<(i128, i128, i128, i32)> {
+        match &self.0 {
+            Repr::Scaled(h) => Some((h.x, h.y, h.w, h.e)),
+            Repr::Rational(_) => None,
+        }
+    }
+
+    /// The point with both coordinates multiplied by `s` (exact).
+    pub fn scaled(&self, s: &Rat) -> LoopPoint {
+        self.exact().scaled(s).into()
+    }
+}
+
+impl From<Point2> for LoopPoint {
+    fn from(p: Point2) -> Self {
+        LoopPoint(Repr::Rational(Box::new(p)))
+    }
+}
+
+impl PartialEq for LoopPoint {
+    fn eq(&self, other: &Self) -> bool {
+        match (&self.0, &other.0) {
+            (Repr::Scaled(a), Repr::Scaled(b)) if a == b => true,
+            _ => self.exact() == other.exact(),
+        }
+    }
 }
 
 #[cfg(test)]
@@ -209,9 +408,20 @@ mod tests {
             let frac = Rat::new(t.into(), (den + t).into());
             let level = Level::new(&za + (zb - &za) * frac);
             proptest::prop_assert_eq!(Point2::on_edge(a, b, &level), Point2::on_edge_reference(a, b, &level));
-            if let Some(p) = on_edge_i128(a, b, &level) {
-                proptest::prop_assert_eq!(p, Point2::on_edge_reference(a, b, &level));
+            let reference = Point2::on_edge_reference(a, b, &level);
+            if let Some(h) = crossing_i128(a, b, &level) {
+                proptest::prop_assert_eq!(h.reduce(), reference.clone());
+                proptest::prop_assert_eq!(h.to_f64(), reference.to_f64());
             }
+            if let (Some(ga), Some(gb)) = (GridPosition::of(a), GridPosition::of(b)) {
+                let on_grid = GridPosition::crossing(&ga, &gb, &level).map(|p| p.as_integers());
+                let direct = crossing_i128(a, b, &level).map(|h| Some((h.x, h.y, h.w, h.e)));
+                proptest::prop_assert_eq!(on_grid, direct);
+                proptest::prop_assert_eq!(ga.point(), LoopPoint::of_vertex(a));
+            }
+            let lp = LoopPoint::on_edge(a, b, &level);
+            proptest::prop_assert_eq!(lp.exact().into_owned(), reference.clone());
+            proptest::prop_assert_eq!(lp.to_f64(), reference.to_f64());
         }
     }
 
@@ -226,6 +436,20 @@ mod tests {
             proptest::prop_assert_eq!(gcd_u128(a, b), x);
             proptest::prop_assert_eq!(gcd_u128(a, 0), a);
             proptest::prop_assert_eq!(gcd_u128(0, b), b);
+        }
+    }
+
+    proptest::proptest! {
+        /// A vertex point is its two doubles, exactly, for every pair of
+        /// finite doubles (integers when the exponents are close, reduced
+        /// rationals otherwise).
+        #[test]
+        fn vertex_points_are_the_doubles(x in proptest::num::f64::ANY, y in proptest::num::f64::ANY, z in proptest::num::f64::ANY) {
+            proptest::prop_assume!(x.is_finite() && y.is_finite());
+            let p = LoopPoint::of_vertex([x, y, z]);
+            proptest::prop_assert_eq!(p.exact().into_owned(), Point2::of_vertex([x, y, z]));
+            proptest::prop_assert_eq!(p.to_f64().map(|v| v + 0.0), [x + 0.0, y + 0.0]);
+            proptest::prop_assert!(p == LoopPoint::from(Point2::of_vertex([x, y, z])));
         }
     }
 
@@ -244,12 +468,16 @@ mod tests {
     #[test]
     fn fast_path_is_taken_on_integer_meshes() {
         let c = Level::new(parse_rational("1/3").unwrap());
-        let p = on_edge_i128([0.0, 0.0, 0.0], [3.0, 6.0, 1.0], &c).unwrap();
+        let p = crossing_i128([0.0, 0.0, 0.0], [3.0, 6.0, 1.0], &c)
+            .unwrap()
+            .reduce();
         assert_eq!(p.x, parse_rational("1").unwrap());
         assert_eq!(p.y, parse_rational("2").unwrap());
         // Dyadic coordinates and a decimal level.
         let c = Level::new(parse_rational("0.3").unwrap());
-        let p = on_edge_i128([0.5, 0.25, 0.25], [1.5, -0.75, 0.75], &c).unwrap();
+        let p = crossing_i128([0.5, 0.25, 0.25], [1.5, -0.75, 0.75], &c)
+            .unwrap()
+            .reduce();
         assert_eq!(
             p,
             Point2::on_edge_reference([0.5, 0.25, 0.25], [1.5, -0.75, 0.75], &c)

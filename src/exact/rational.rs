@@ -169,6 +169,78 @@ pub fn rat_to_f64(r: &Rat) -> f64 {
     })
 }
 
+/// The `f64` nearest to `n 2^e / d` (ties to even), for `d > 0`: the
+/// rounding of a point stored as integers. Integer long division to 55
+/// bits plus a sticky bit, rounded once; when the result would be
+/// subnormal or overflow (or `d >= 2^126`), through [`rat_to_f64`].
+/// Equal to `rat_to_f64` of the same value (property-tested).
+pub fn ratio_to_f64(n: i128, d: u128, e: i32) -> f64 {
+    if n == 0 {
+        return 0.0;
+    }
+    ratio_to_f64_normal(n.unsigned_abs(), d, e)
+        .map(|f| if n < 0 { -f } else { f })
+        .unwrap_or_else(|| rat_to_f64(&ratio_to_rat(n, d, e)))
+}
+
+/// `n 2^e / d` as a rational.
+fn ratio_to_rat(n: i128, d: u128, e: i32) -> Rat {
+    Rat::new(n.into(), d.into()) * Rat::from_integer(2.into()).pow(e)
+}
+
+fn ratio_to_f64_normal(num: u128, d: u128, e: i32) -> Option<f64> {
+    if d == 0 || d >= 1 << 126 {
+        return None;
+    }
+    let bits = |v: u128| 128 - v.leading_zeros() as i32;
+    // q = floor(num 2^s / d) lies in [2^54, 2^56).
+    let s = 55 - (bits(num) - bits(d));
+    let (mut q, mut sticky) = if s <= 0 {
+        let k = (-s) as u32;
+        let high = num >> k;
+        let dropped = k > 0 && num & ((1u128 << k) - 1) != 0;
+        (high / d, dropped || high % d != 0)
+    } else {
+        // Long division, as many bits per step as `d` leaves room for.
+        let (mut q, mut r) = (num / d, num % d);
+        let mut left = s as u32;
+        while left > 0 {
+            let t = left.min(d.leading_zeros());
+            r <<= t;
+            q = (q << t) | (r / d);
+            r %= d;
+            left -= t;
+        }
+        (q, r != 0)
+    };
+    let mut exp = i64::from(e) - i64::from(s);
+    if q >= 1 << 55 {
+        sticky |= q & 1 != 0;
+        q >>= 1;
+        exp += 1;
+    }
+    // 55 bits: drop two, round half to even.
+    let rest = q & 3;
+    q >>= 2;
+    exp += 2;
+    if rest > 2 || (rest == 2 && (sticky || q & 1 == 1)) {
+        q += 1;
+        if q == 1 << 53 {
+            q >>= 1;
+            exp += 1;
+        }
+    }
+    // value = q 2^exp with 2^52 <= q < 2^53: normal when the unbiased
+    // exponent exp + 52 is in -1022..=1023.
+    let biased = exp + 52 + 1023;
+    if !(1..=2046).contains(&biased) {
+        return None;
+    }
+    Some(f64::from_bits(
+        ((biased as u64) << 52) | (q as u64 & ((1 << 52) - 1)),
+    ))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -237,6 +309,32 @@ mod tests {
         fn small_quotients_round_correctly(n in -(1i64 << 54)..(1i64 << 54), d in 1i64..(1i64 << 54), shift in 0u32..40) {
             let r = Rat::new((n >> shift).into(), d.into());
             proptest::prop_assert_eq!(rat_to_f64(&r), r.to_f64().unwrap());
+        }
+
+        /// Integer long division rounds like num-rational's conversion of
+        /// the same rational: numerators and denominators of every width,
+        /// exponents into the subnormal and overflow ranges (fallback).
+        #[test]
+        fn integer_ratios_round_correctly(
+            n in proptest::num::i128::ANY, nb in 1u32..128,
+            d in proptest::num::u128::ANY, db in 1u32..129, e in -1200i32..1200
+        ) {
+            let n = n >> (128 - nb);
+            let d = (d >> (128 - db)).max(1);
+            let reference = ratio_to_rat(n, d, e).to_f64().unwrap();
+            proptest::prop_assert_eq!(ratio_to_f64(n, d, e).to_bits(), reference.to_bits());
+        }
+
+        /// Exact ties and their neighbours round to even: `(2m + 1) / 2`
+        /// at 54 significant bits, times odd and power-of-two divisors.
+        #[test]
+        fn integer_ratio_ties_go_to_even(m in (1i128 << 52)..(1i128 << 53), k in 0u32..60, odd in 1u128..1000, delta in -1i128..=1) {
+            let n = ((2 * m + 1) << k) + delta;
+            for d in [1u128 << (k + 1), (1u128 << (k + 1)) * (2 * odd + 1)] {
+                let n = n * if d.count_ones() == 1 { 1 } else { (2 * odd + 1) as i128 };
+                let reference = ratio_to_rat(n, d, 0).to_f64().unwrap();
+                proptest::prop_assert_eq!(ratio_to_f64(n, d, 0), reference);
+            }
         }
 
         /// The direct construction equals num-rational's (reduced) one for

@@ -95,7 +95,7 @@ pub fn check_level_invariants(mesh: &Mesh, topo: &Topology, ls: &LevelSet) -> Re
                 return Err(format!("{name} loop {i} is empty or malformed"));
             }
             for (c, p) in l.cuts.iter().zip(&l.points) {
-                if !lies_on(mesh, topo, &ls.level, *c, p) {
+                if !lies_on(mesh, topo, &ls.level, *c, &p.exact()) {
                     return Err(format!(
                         "{name} loop {i}: point {:?} is not on {c:?}",
                         p.to_f64()
@@ -214,11 +214,15 @@ fn no_crossing(loops: &[Loop], opposite_overlap_ok: bool) -> Result<(), String> 
             [b, a]
         }
     }
+    let exact: Vec<Vec<Point2>> = loops
+        .iter()
+        .map(|l| l.points.iter().map(|p| p.exact().into_owned()).collect())
+        .collect();
     let mut segs: Vec<Seg<'_>> = Vec::new();
-    for (i, l) in loops.iter().enumerate() {
-        let n = l.points.len();
+    for (i, points) in exact.iter().enumerate() {
+        let n = points.len();
         for k in 0..n {
-            let (p, q) = (&l.points[k], &l.points[(k + 1) % n]);
+            let (p, q) = (&points[k], &points[(k + 1) % n]);
             if p != q {
                 segs.push(Seg {
                     owner: i,
@@ -289,12 +293,12 @@ fn no_crossing(loops: &[Loop], opposite_overlap_ok: bool) -> Result<(), String> 
     }
     // Passes through a shared point must not interleave.
     let mut passes: HashMap<&Point2, Vec<Pass>> = HashMap::new();
-    for l in loops {
-        let n = l.points.len();
+    for points in &exact {
+        let n = points.len();
         for k in 0..n {
-            let prev = &l.points[(k + n - 1) % n];
-            let here = &l.points[k];
-            let next = &l.points[(k + 1) % n];
+            let prev = &points[(k + n - 1) % n];
+            let here = &points[k];
+            let next = &points[(k + 1) % n];
             if prev == here || next == here {
                 continue;
             }

@@ -16,6 +16,7 @@ use crate::classify::{
 };
 use crate::exact::area::{signed_area, total_signed_area};
 use crate::exact::filter::{signed_area_filtered, FilteredPoint};
+use crate::exact::point::{GridPosition, LoopPoint};
 use crate::exact::rational::{rat_to_f64, Rat};
 use crate::exact::{Level, Point2, Sign};
 use crate::ids::{EdgeId, FaceId, VertexId};
@@ -33,8 +34,9 @@ use std::sync::Arc;
 pub struct Loop {
     /// The mesh element each point lies on, in order (first not repeated).
     pub cuts: Vec<CutPoint>,
-    /// Exact points, in the mesh's units.
-    pub points: Vec<Point2>,
+    /// Exact points, in the mesh's units (held as integers when they
+    /// fit; [`LoopPoint::exact`] gives reduced rationals).
+    pub points: Vec<LoopPoint>,
     /// The exact sign of the signed area: positive when counter-clockwise.
     pub orientation: Sign,
     /// The signed area, rounded: the midpoint of a certified interval
@@ -63,7 +65,7 @@ pub fn total_area(loops: &[Loop]) -> Rat {
 }
 
 /// The exact sign of a polygon's area and its rounded value.
-fn orientation_of(filtered: &[FilteredPoint<'_>], points: &[Point2]) -> (Sign, f64) {
+fn orientation_of(filtered: &[FilteredPoint<'_>], points: &[LoopPoint]) -> (Sign, f64) {
     let estimate = signed_area_filtered(filtered);
     match estimate.sign {
         Some(sign) => (sign, estimate.approx),
@@ -182,6 +184,8 @@ pub struct Slicer<'m> {
     mesh: &'m Mesh,
     topo: Topology,
     unit: Rat,
+    /// Each vertex on its binary grid, when it fits (for fast crossings).
+    grid: Vec<Option<GridPosition>>,
 }
 
 impl<'m> Slicer<'m> {
@@ -200,7 +204,17 @@ impl<'m> Slicer<'m> {
             return Err(SliceError::InvalidMesh(Box::new(report)));
         }
         let topo = report.topology.take().unwrap_or_default();
-        Ok(Slicer { mesh, topo, unit })
+        let grid = mesh
+            .positions
+            .iter()
+            .map(|&p| GridPosition::of(p))
+            .collect();
+        Ok(Slicer {
+            mesh,
+            topo,
+            unit,
+            grid,
+        })
     }
 
     /// The mesh's topology.
@@ -294,6 +308,7 @@ enum Family {
 struct LevelBuilder<'a> {
     mesh: &'a Mesh,
     topo: &'a Topology,
+    grid: &'a [Option<GridPosition>],
     level: &'a Level,
     signs: Signs<'a>,
     active: &'a [FaceId],
@@ -304,6 +319,7 @@ impl<'a> LevelBuilder<'a> {
         LevelBuilder {
             mesh: slicer.mesh,
             topo: &slicer.topo,
+            grid: &slicer.grid,
             level,
             signs: Signs::new(slicer.mesh, level),
             active,
@@ -314,15 +330,22 @@ impl<'a> LevelBuilder<'a> {
         Point2::of_vertex(self.mesh.pos(v))
     }
 
-    fn edge_point(&self, e: EdgeId) -> Point2 {
-        let [a, b] = self.topo.edge(e).v;
-        Point2::on_edge(self.mesh.pos(a), self.mesh.pos(b), self.level)
-    }
-
-    fn cut_point(&self, c: CutPoint) -> Point2 {
+    fn cut_point(&self, c: CutPoint) -> LoopPoint {
         match c {
-            CutPoint::AtVertex(v) => self.vertex_point(v),
-            CutPoint::OnEdge(e) => self.edge_point(e),
+            CutPoint::AtVertex(v) => match &self.grid[v.idx()] {
+                Some(g) => g.point(),
+                None => LoopPoint::of_vertex(self.mesh.pos(v)),
+            },
+            CutPoint::OnEdge(e) => {
+                let [a, b] = self.topo.edge(e).v;
+                let on_grid = match (&self.grid[a.idx()], &self.grid[b.idx()]) {
+                    (Some(ga), Some(gb)) => GridPosition::crossing(ga, gb, self.level),
+                    _ => None,
+                };
+                on_grid.unwrap_or_else(|| {
+                    LoopPoint::on_edge(self.mesh.pos(a), self.mesh.pos(b), self.level)
+                })
+            }
         }
     }
 
@@ -370,7 +393,7 @@ impl<'a> LevelBuilder<'a> {
             .filter_map(|&f| face_segment(mesh, topo, signs, f))
             .collect();
         segments.extend(edge_segments(&edges));
-        let contours = Arc::new(self.loops(&segments, |c| self.cut_point(c))?);
+        let contours = Arc::new(self.loops(&segments)?);
 
         // Saddles: on-plane vertices with 2m >= 4 S_O branches.
         let mut branches: HashMap<VertexId, u32> = HashMap::default();
@@ -400,7 +423,7 @@ impl<'a> LevelBuilder<'a> {
                     via: Via::Edge(b.edge),
                 })
                 .collect();
-            let boundary = self.loops(&segs, |c| self.cut_point(c))?;
+            let boundary = self.loops(&segs)?;
             face_regions_out.push(FaceRegion {
                 facing: r.facing,
                 faces: r.faces,
@@ -508,30 +531,21 @@ impl<'a> LevelBuilder<'a> {
             .filter(|s| !index.contains_key(&(s.to, s.from)))
             .copied()
             .collect();
-        self.loops_with(&kept, |c| self.cut_point(c), Family::OneSided)
+        self.loops_with(&kept, Family::OneSided)
     }
 
-    fn loops(
-        &self,
-        segments: &[Segment],
-        point: impl Fn(CutPoint) -> Point2,
-    ) -> Result<Vec<Loop>, SliceError> {
-        self.loops_with(segments, point, Family::Exact)
+    fn loops(&self, segments: &[Segment]) -> Result<Vec<Loop>, SliceError> {
+        self.loops_with(segments, Family::Exact)
     }
 
     /// Chains, computes exact points, decides orientations and nests.
-    fn loops_with(
-        &self,
-        segments: &[Segment],
-        point: impl Fn(CutPoint) -> Point2,
-        family: Family,
-    ) -> Result<Vec<Loop>, SliceError> {
+    fn loops_with(&self, segments: &[Segment], family: Family) -> Result<Vec<Loop>, SliceError> {
         let chains = chain_loops(self.topo, segments)?;
-        let mut shapes: Vec<(Vec<CutPoint>, Vec<Point2>)> = chains
+        let mut shapes: Vec<(Vec<CutPoint>, Vec<LoopPoint>)> = chains
             .iter()
             .map(|ch| {
                 let cuts: Vec<CutPoint> = ch.iter().map(|&i| segments[i].from).collect();
-                let points = cuts.iter().map(|&c| point(c)).collect();
+                let points = cuts.iter().map(|&c| self.cut_point(c)).collect();
                 (cuts, points)
             })
             .collect();

@@ -10,6 +10,7 @@
 //! many small loops side by side.
 
 use crate::exact::filter::{cmp_y, orient2d_filtered, FilteredPoint, Key};
+use crate::exact::point::LoopPoint;
 use crate::exact::rational::Rat;
 use crate::exact::{Point2, Sign};
 use rustc_hash::FxHashSet as HashSet;
@@ -62,32 +63,35 @@ pub fn contains(poly: &[FilteredPoint<'_>], r: &FilteredPoint<'_>) -> bool {
     inside
 }
 
+/// The keys of one loop's points, and of every segment of its family.
+#[derive(Clone, Copy)]
+struct LoopKeys<'k> {
+    points: &'k [Key],
+    family: &'k HashSet<(Key, Key)>,
+}
+
 /// The midpoint of the first segment of `poly` that has non-zero length and
 /// whose reverse is not in the family (one-sided limits may run both ways
 /// along an edge: a crack or spike of zero width); that midpoint lies on no
-/// other loop. Reverses are looked up by the rounded coordinates, which can
-/// only skip more segments than needed, never fewer; if every segment is
-/// skipped, the first one of non-zero length is used.
-fn representative(poly: &[FilteredPoint<'_>], reversed: &HashSet<(Key, Key)>) -> Option<Point2> {
+/// other loop. Reverses are looked up by the points' nearest doubles
+/// (`keys`, given when reversals are possible), which can only skip more
+/// segments than needed, never fewer; if every segment is skipped, the
+/// first one of non-zero length is used.
+fn representative(poly: &[FilteredPoint<'_>], keys: Option<LoopKeys<'_>>) -> Option<LoopPoint> {
     let n = poly.len();
-    let segment = |i: usize| {
-        (
-            poly[i].exact(),
-            poly[(i + 1) % n].exact(),
-            poly[i].key(),
-            poly[(i + 1) % n].key(),
-        )
-    };
+    let ends = |i: usize| (poly[i].exact(), poly[(i + 1) % n].exact());
+    let reversed =
+        |i: usize| keys.is_some_and(|k| k.family.contains(&(k.points[(i + 1) % n], k.points[i])));
     let pick = (0..n)
-        .map(segment)
-        .find(|&(p, q, kp, kq)| p != q && !reversed.contains(&(kq, kp)))
-        .or_else(|| (0..n).map(segment).find(|&(p, q, _, _)| p != q))?;
-    let (p, q, _, _) = pick;
+        .find(|&i| !reversed(i) && ends(i).0 != ends(i).1)
+        .or_else(|| (0..n).find(|&i| ends(i).0 != ends(i).1))?;
+    let (p, q) = ends(pick);
+    let (p, q) = (p.exact(), q.exact());
     let half = Rat::new(1.into(), 2.into());
-    Some(Point2 {
+    Some(LoopPoint::from(Point2 {
         x: (&p.x + &q.x) * &half,
         y: (&p.y + &q.y) * &half,
-    })
+    }))
 }
 
 #[derive(Clone, Copy)]
@@ -123,7 +127,7 @@ pub enum Reversals {
 }
 
 /// Nests a family of loops. `loops[i]` is the exact polygon of loop `i`.
-pub fn nest<P: AsRef<[Point2]>>(loops: &[P]) -> Vec<Nesting> {
+pub fn nest<P: AsRef<[LoopPoint]>>(loops: &[P]) -> Vec<Nesting> {
     let filtered: Vec<Vec<FilteredPoint<'_>>> = loops
         .iter()
         .map(|l| l.as_ref().iter().map(FilteredPoint::new).collect())
@@ -137,17 +141,27 @@ pub fn nest_filtered(filtered: &[Vec<FilteredPoint<'_>>], reversals: Reversals) 
     if n == 0 {
         return Vec::new();
     }
-    let mut segments: HashSet<(Key, Key)> = HashSet::default();
-    if reversals == Reversals::Possible {
-        for l in filtered {
-            for i in 0..l.len() {
-                segments.insert((l[i].key(), l[(i + 1) % l.len()].key()));
-            }
-        }
-    }
-    let reps: Vec<Option<Point2>> = filtered
+    let keys: Vec<Vec<Key>> = match reversals {
+        Reversals::Possible => filtered
+            .iter()
+            .map(|l| l.iter().map(FilteredPoint::key).collect())
+            .collect(),
+        Reversals::Impossible => Vec::new(),
+    };
+    let segments: HashSet<(Key, Key)> = keys
         .iter()
-        .map(|l| representative(l, &segments))
+        .flat_map(|k| (0..k.len()).map(|i| (k[i], k[(i + 1) % k.len()])))
+        .collect();
+    let reps: Vec<Option<LoopPoint>> = filtered
+        .iter()
+        .enumerate()
+        .map(|(i, l)| {
+            let keys = keys.get(i).map(|k| LoopKeys {
+                points: k,
+                family: &segments,
+            });
+            representative(l, keys)
+        })
         .collect();
     let boxes: Vec<Bbox> = filtered.iter().map(|l| bbox(l)).collect();
     let mut lo = [f64::INFINITY; 2];
@@ -221,10 +235,12 @@ pub fn nest_filtered(filtered: &[Vec<FilteredPoint<'_>>], reversals: Reversals) 
 mod tests {
     use super::*;
 
-    fn square(x0: i64, y0: i64, s: i64, ccw: bool) -> Vec<Point2> {
-        let p = |x: i64, y: i64| Point2 {
-            x: Rat::from_integer(x.into()),
-            y: Rat::from_integer(y.into()),
+    fn square(x0: i64, y0: i64, s: i64, ccw: bool) -> Vec<LoopPoint> {
+        let p = |x: i64, y: i64| {
+            LoopPoint::from(Point2 {
+                x: Rat::from_integer(x.into()),
+                y: Rat::from_integer(y.into()),
+            })
         };
         let mut v = vec![p(x0, y0), p(x0 + s, y0), p(x0 + s, y0 + s), p(x0, y0 + s)];
         if !ccw {

@@ -129,7 +129,8 @@ fn rust_view(mesh: &Mesh, c: &Rat, ls: &LevelSet, errs: &mut Vec<String>) -> Rus
             if let (CutPoint::AtVertex(a), CutPoint::AtVertex(b)) = (l.cuts[i], l.cuts[j]) {
                 bump(&mut so_edges, key(a, b), 1);
             }
-            bump(&mut so_segments, seg(xy(&l.points[i]), xy(&l.points[j])), 1);
+            let [p, q] = [i, j].map(|k| xy(&l.points[k].exact()));
+            bump(&mut so_segments, seg(p, q), 1);
         }
     }
     let mut edges = BTreeMap::new();

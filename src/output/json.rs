@@ -4,6 +4,7 @@
 //! added (`exact`, `area_exact`) together with the mesh element each point
 //! lies on (`on`, an extra key).
 
+use crate::exact::point::LoopPoint;
 use crate::exact::rational::{rat_to_f64, rat_to_string, Rat};
 use crate::exact::Point2;
 use crate::levelset::{LevelSet, Loop};
@@ -155,8 +156,8 @@ fn json_loop(l: &Loop, ex: Exactness) -> JsonLoop {
     let with = ex == Exactness::WithExact;
     let exact_area = with.then(|| l.area());
     JsonLoop {
-        points: l.points.iter().map(Point2::to_f64).collect(),
-        exact: with.then(|| l.points.iter().map(exact_xy).collect()),
+        points: l.points.iter().map(LoopPoint::to_f64).collect(),
+        exact: with.then(|| l.points.iter().map(|p| exact_xy(&p.exact())).collect()),
         on: with.then(|| {
             l.cuts
                 .iter()

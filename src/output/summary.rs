@@ -155,7 +155,7 @@ mod tests {
             level: Rat::default(),
             contours: std::sync::Arc::new(vec![Loop {
                 cuts: vec![CutPoint::AtVertex(crate::ids::VertexId(0)); points.len()],
-                points,
+                points: points.into_iter().map(Into::into).collect(),
                 orientation: Sign::Positive,
                 area_approx: 0.0,
                 role: Role::Outer,

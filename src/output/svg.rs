@@ -23,6 +23,7 @@
 //! the classes count exactly the level set's elements.
 
 use crate::classify::{ExtremumKind, Facing, RidgeKind};
+use crate::exact::point::LoopPoint;
 use crate::exact::rational::{rat_from_f64, rat_to_f64, rat_to_string, Rat};
 use crate::exact::Point2;
 use crate::ids::VertexId;
@@ -252,8 +253,8 @@ fn subpath(d: &mut String, pts: &[[f64; 2]], closed: bool) {
     }
 }
 
-fn rounded(points: &[Point2]) -> Vec<[f64; 2]> {
-    points.iter().map(Point2::to_f64).collect()
+fn rounded(points: &[LoopPoint]) -> Vec<[f64; 2]> {
+    points.iter().map(LoopPoint::to_f64).collect()
 }
 
 fn role_class(r: Role) -> &'static str {
@@ -423,7 +424,8 @@ pub fn drawing(ls: &LevelSet, scene: &Scene, opts: &SvgOptions) -> Drawing {
             RidgeKind::Valley => "valley",
         };
         let mut d = String::new();
-        subpath(&mut d, &rounded(&r.points), r.closed);
+        let points: Vec<[f64; 2]> = r.points.iter().map(Point2::to_f64).collect();
+        subpath(&mut d, &points, r.closed);
         let _ = writeln!(
             s,
             r#"<path class="sno {kind}" data-closed="{}" d="{d}"/>"#,
