@@ -7,7 +7,7 @@
 //! balanced parentheses (incoming opens, outgoing closes the latest open
 //! one), and each closed pair joins. No coordinate is compared.
 
-use crate::ids::VertexId;
+use crate::ids::{EdgeId, VertexId};
 use crate::mesh::topology::Topology;
 use crate::segment::{CutPoint, Segment, Via};
 use rustc_hash::FxHashMap as HashMap;
@@ -38,21 +38,42 @@ pub enum ChainError {
 /// order; loops come out in order of their smallest segment index, and each
 /// loop starts at its smallest segment index, so the result is canonical.
 pub fn chain_loops(topo: &Topology, segments: &[Segment]) -> Result<Vec<Vec<usize>>, ChainError> {
-    // Segment ends sorted by cut point (then segment index): each cut
-    // point's arrivals and departures are two runs, read side by side.
-    let mut ins: Vec<(CutPoint, usize)> = segments
-        .iter()
-        .enumerate()
-        .map(|(i, s)| (s.to, i))
-        .collect();
-    let mut outs: Vec<(CutPoint, usize)> = segments
-        .iter()
-        .enumerate()
-        .map(|(i, s)| (s.from, i))
-        .collect();
+    let unbalanced = |at: CutPoint| ChainError::Unbalanced {
+        at,
+        incoming: segments.iter().filter(|s| s.to == at).count(),
+        outgoing: segments.iter().filter(|s| s.from == at).count(),
+    };
+    let mut next = vec![usize::MAX; segments.len()];
+    // An edge crossing has one segment in and one out: looked up by edge.
+    let mut leaving: HashMap<EdgeId, usize> =
+        HashMap::with_capacity_and_hasher(segments.len(), Default::default());
+    let mut ins: Vec<(CutPoint, usize)> = Vec::new();
+    let mut outs: Vec<(CutPoint, usize)> = Vec::new();
+    for (i, s) in segments.iter().enumerate() {
+        match s.from {
+            CutPoint::OnEdge(e) => {
+                if leaving.insert(e, i).is_some() {
+                    return Err(unbalanced(s.from));
+                }
+            }
+            CutPoint::AtVertex(_) => outs.push((s.from, i)),
+        }
+        if let CutPoint::AtVertex(_) = s.to {
+            ins.push((s.to, i));
+        }
+    }
+    for (i, s) in segments.iter().enumerate() {
+        if let CutPoint::OnEdge(e) = s.to {
+            next[i] = leaving.remove(&e).ok_or_else(|| unbalanced(s.to))?;
+        }
+    }
+    if let Some(&e) = leaving.keys().min() {
+        return Err(unbalanced(CutPoint::OnEdge(e)));
+    }
+    // At vertices, arrivals and departures sorted by vertex (then segment
+    // index) are two runs per vertex, read side by side.
     ins.sort_unstable();
     outs.sort_unstable();
-    let mut next = vec![usize::MAX; segments.len()];
     let (mut a, mut b) = (0, 0);
     loop {
         let p = match (ins.get(a), outs.get(b)) {
@@ -67,20 +88,13 @@ pub fn chain_loops(topo: &Topology, segments: &[Segment]) -> Result<Vec<Vec<usiz
         let (a_end, b_end) = (run(&ins, a), run(&outs, b));
         let (incoming, outgoing) = (&ins[a..a_end], &outs[b..b_end]);
         (a, b) = (a_end, b_end);
-        let unbalanced = || ChainError::Unbalanced {
-            at: p,
-            incoming: incoming.len(),
-            outgoing: outgoing.len(),
-        };
-        if incoming.len() != outgoing.len() {
-            return Err(unbalanced());
-        }
         match (p, incoming.len()) {
+            (_, k) if k != outgoing.len() => return Err(unbalanced(p)),
             (_, 1) => next[incoming[0].1] = outgoing[0].1,
             (CutPoint::AtVertex(v), _) => {
                 pair_at_vertex(topo, segments, v, incoming, outgoing, &mut next)?
             }
-            (CutPoint::OnEdge(_), _) => return Err(unbalanced()),
+            (CutPoint::OnEdge(_), _) => return Err(unbalanced(p)),
         }
     }
     let mut seen = vec![false; segments.len()];

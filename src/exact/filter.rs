@@ -31,9 +31,10 @@ impl Interval {
     }
 
     /// An interval around `n 2^e / w` (`w > 0`) from one rounded
-    /// division: `n` and `w` are rounded to doubles and divided (relative
-    /// error below `4u`, `u = 2^-53`), then widened by `8u |v|` (an exact
-    /// product) and one ulp each way. `None` outside the range where that
+    /// division: `n` and `w` are converted to doubles (relative error below
+    /// `1.001u` each, `u = 2^-53`) and divided (relative error below `4u`
+    /// in all), then widened by `8u |v|` (an exact product) and one ulp
+    /// each way. `None` outside the range where that
     /// product is exact and nothing overflows.
     #[inline]
     fn around_ratio(n: i128, w: i128, e: i32) -> Option<Interval> {
@@ -44,7 +45,7 @@ impl Interval {
             return None;
         }
         let scale = f64::from_bits(((e + 1023) as u64) << 52);
-        let v = (n as f64) / (w as f64) * scale;
+        let v = to_f64_within_ulp(n) / to_f64_within_ulp(w) * scale;
         let m = v.abs();
         if !(1e-250..=1e250).contains(&m) {
             return None;
@@ -103,6 +104,18 @@ impl Interval {
     }
 }
 
+/// `v` as a double within `(1 + 2^-9) u |v|`: the top 63 bits truncated
+/// (relative error below `2^-62`), then rounded by the hardware's `i64`
+/// conversion (`i128` conversion is a slow library call).
+#[inline]
+fn to_f64_within_ulp(v: i128) -> f64 {
+    if let Ok(small) = i64::try_from(v) {
+        return small as f64;
+    }
+    let shift = 65 - v.unsigned_abs().leading_zeros();
+    ((v >> shift) as i64 as f64) * f64::from_bits(((shift + 1023) as u64) << 52)
+}
+
 /// The bits of a point's nearest doubles: equal for equal points (so a
 /// cheap hash key), possibly equal for distinct ones.
 pub type Key = (u64, u64);
@@ -141,6 +154,12 @@ impl<'a> FilteredPoint<'a> {
     pub fn key(&self) -> Key {
         let [x, y] = self.exact.to_f64();
         ((x + 0.0).to_bits(), (y + 0.0).to_bits())
+    }
+
+    /// Whether the enclosures prove the two points distinct.
+    pub fn disjoint(&self, other: &FilteredPoint<'_>) -> bool {
+        let apart = |a: Interval, b: Interval| a.hi < b.lo || b.hi < a.lo;
+        apart(self.x, other.x) || apart(self.y, other.y)
     }
 
     /// The exact point.

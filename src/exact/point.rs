@@ -199,12 +199,21 @@ fn crossing_of_ints(k: [i128; 6], e0: i32, level: &Level) -> Option<Scaled> {
     if p.unsigned_abs() >= 1 << 80 || q >= 1 << 80 {
         return None;
     }
-    // x = (ax q dz + (bx - ax)(p - q az)) / (q dz), dz = bz - az.
+    // x = (ax q dz + (bx - ax)(p - q az)) / (q dz), dz = bz - az. With
+    // |k| < 2^40 and |p|, q < 2^80: |w| < 2^121 and |s| < 2^122, so only
+    // the two products of `coord` can overflow; their sizes are checked by
+    // bit length first (`checked_mul` on i128 is a slow library call).
     let dz = bz - az;
-    let w = q.checked_mul(dz)?;
-    let s = p.checked_sub(q.checked_mul(az)?)?;
+    let w = q * dz;
+    let s = p - q * az;
+    let bits = |v: i128| 128 - v.unsigned_abs().leading_zeros();
     let coord = |u: i128, v: i128| -> Option<i128> {
-        u.checked_mul(w)?.checked_add((v - u).checked_mul(s)?)
+        let d = v - u;
+        if bits(u) + bits(w) <= 126 && bits(d) + bits(s) <= 126 {
+            Some(u * w + d * s)
+        } else {
+            u.checked_mul(w)?.checked_add(d.checked_mul(s)?)
+        }
     };
     let (x, y) = (coord(ax, bx)?, coord(ay, by)?);
     let (x, y, w) = if w < 0 { (-x, -y, -w) } else { (x, y, w) };

@@ -80,24 +80,58 @@ impl Heights {
 struct Sweep<'h> {
     heights: &'h Heights,
     next: usize,
+    /// The faces touching the current level, ascending.
     active: Vec<FaceId>,
+    /// Scratch for merging entering faces into `active`.
+    merged: Vec<FaceId>,
 }
 
 impl<'h> Sweep<'h> {
-    /// Moves the plane up to level `index` and returns the faces touching
-    /// it, ascending. Indices must come in ascending order.
-    fn advance(&mut self, index: usize) -> Vec<FaceId> {
-        let h = self.heights;
-        for faces in &h.entering[self.next.min(index + 1)..=index] {
-            self.active.extend_from_slice(faces);
+    fn new(heights: &'h Heights) -> Self {
+        Sweep {
+            heights,
+            next: 0,
+            active: Vec::new(),
+            merged: Vec::new(),
         }
-        self.next = self.next.max(index + 1);
+    }
+
+    /// Moves the plane up to level `index`: faces the plane has passed
+    /// leave, faces filed up to `index` enter, and `active` stays
+    /// ascending (one merge, no sort of the active set). Indices must come
+    /// in ascending order.
+    fn advance(&mut self, index: usize) {
+        let h = self.heights;
         let level = &h.grid[index];
-        self.active
-            .retain(|f| level.sign_of(h.max[f.idx()]) != Sign::Negative);
-        let mut sorted = self.active.clone();
-        sorted.sort_unstable();
-        sorted
+        let touching = |f: &FaceId| level.sign_of(h.max[f.idx()]) != Sign::Negative;
+        self.active.retain(touching);
+        let mut entering: Vec<FaceId> = h.entering[self.next.min(index + 1)..=index]
+            .iter()
+            .flatten()
+            .copied()
+            .filter(touching)
+            .collect();
+        self.next = self.next.max(index + 1);
+        if entering.is_empty() {
+            return;
+        }
+        // Each bucket is ascending; several (a worker skipping levels) are not.
+        entering.sort_unstable();
+        self.merged.clear();
+        self.merged.reserve(self.active.len() + entering.len());
+        let (mut i, mut j) = (0, 0);
+        while i < self.active.len() && j < entering.len() {
+            if self.active[i] < entering[j] {
+                self.merged.push(self.active[i]);
+                i += 1;
+            } else {
+                self.merged.push(entering[j]);
+                j += 1;
+            }
+        }
+        self.merged.extend_from_slice(&self.active[i..]);
+        self.merged.extend_from_slice(&entering[j..]);
+        std::mem::swap(&mut self.active, &mut self.merged);
     }
 
     /// Advances to level `index` (`c` in the mesh's units) and slices it.
@@ -107,8 +141,8 @@ impl<'h> Sweep<'h> {
         index: usize,
         c: &Rat,
     ) -> Result<LevelSet, SliceError> {
-        let active = self.advance(index);
-        slicer.slice_active(c, &self.heights.grid[index], &active)
+        self.advance(index);
+        slicer.slice_active(c, &self.heights.grid[index], &self.active)
     }
 }
 
@@ -126,13 +160,8 @@ where
 {
     let threads = threads.clamp(1, levels.len().max(1));
     let heights = Heights::new(slicer, levels);
-    let new_sweep = || Sweep {
-        heights: &heights,
-        next: 0,
-        active: Vec::new(),
-    };
     let worker = |t: usize, tx: std::sync::mpsc::SyncSender<Result<LevelSet, SliceError>>| {
-        let mut sweep = new_sweep();
+        let mut sweep = Sweep::new(&heights);
         for (index, c) in levels.iter().enumerate().skip(t).step_by(threads) {
             let result = sweep.slice(slicer, index, c);
             let failed = result.is_err();
@@ -143,7 +172,7 @@ where
     };
     if threads == 1 {
         // The same sweep on the caller's thread.
-        let mut sweep = new_sweep();
+        let mut sweep = Sweep::new(&heights);
         for (index, c) in levels.iter().enumerate() {
             let ls = sweep
                 .slice(slicer, index, c)

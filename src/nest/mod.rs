@@ -79,14 +79,18 @@ struct LoopKeys<'k> {
 /// first one of non-zero length is used.
 fn representative(poly: &[FilteredPoint<'_>], keys: Option<LoopKeys<'_>>) -> Option<LoopPoint> {
     let n = poly.len();
-    let ends = |i: usize| (poly[i].exact(), poly[(i + 1) % n].exact());
+    let ends = |i: usize| (&poly[i], &poly[(i + 1) % n]);
     let reversed =
         |i: usize| keys.is_some_and(|k| k.family.contains(&(k.points[(i + 1) % n], k.points[i])));
+    let long = |i: usize| {
+        let (p, q) = ends(i);
+        p.disjoint(q) || p.exact() != q.exact()
+    };
     let pick = (0..n)
-        .find(|&i| !reversed(i) && ends(i).0 != ends(i).1)
-        .or_else(|| (0..n).find(|&i| ends(i).0 != ends(i).1))?;
+        .find(|&i| !reversed(i) && long(i))
+        .or_else(|| (0..n).find(|&i| long(i)))?;
     let (p, q) = ends(pick);
-    let (p, q) = (p.exact(), q.exact());
+    let (p, q) = (p.exact().exact(), q.exact().exact());
     let half = Rat::new(1.into(), 2.into());
     Some(LoopPoint::from(Point2 {
         x: (&p.x + &q.x) * &half,
