@@ -5,6 +5,7 @@ mod common;
 
 use common::slab;
 use proptest::prelude::*;
+use wmslice::datasets::slab::{check_edge_points, heights_and_midpoints};
 use wmslice::exact::rational::Rat;
 use wmslice::exact::{Level, Sign};
 use wmslice::levelset::check::{
@@ -32,6 +33,36 @@ proptest! {
             let ls = slicer.slice_at(c).map_err(|e| TestCaseError::fail(e.to_string()))?;
             if let Err(e) = check_level_invariants(&mesh, slicer.topology(), &ls) {
                 return Err(TestCaseError::fail(format!("level {c}: {e}\n{s:?}")));
+            }
+        }
+    }
+
+    /// A mesh whose coordinates span more than one 62-bit grid (x scaled
+    /// by 2^40, y by 2^-40) takes the per-edge crossing path: its level
+    /// sets keep the invariants, its crossings are the reference ones,
+    /// and its loops pass through the same mesh elements as the unscaled
+    /// mesh's (which takes the grid path).
+    #[test]
+    fn meshes_off_one_grid_slice_like_meshes_on_it(s in slab()) {
+        let mesh = s.mesh();
+        let mut wide = mesh.clone();
+        for p in &mut wide.positions {
+            p[0] *= 2f64.powi(40);
+            p[1] *= 2f64.powi(-40);
+        }
+        prop_assert!(wmslice::exact::grid::MeshGrid::new(&mesh.positions).is_some());
+        prop_assert!(wmslice::exact::grid::MeshGrid::new(&wide.positions).is_none());
+        let (on, off) = (Slicer::new(&mesh).unwrap(), Slicer::new(&wide).unwrap());
+        for c in heights_and_midpoints(&mesh) {
+            let (a, b) = (on.slice_at(&c).unwrap(), off.slice_at(&c).unwrap());
+            if let Err(e) = check_level_invariants(&wide, off.topology(), &b)
+                .and_then(|()| check_edge_points(&off, &b))
+            {
+                return Err(TestCaseError::fail(format!("level {c}: {e}\n{s:?}")));
+            }
+            for (x, y) in [(&a.contours, &b.contours), (&a.below, &b.below), (&a.above, &b.above)] {
+                let cuts = |f: &[wmslice::levelset::Loop]| f.iter().map(|l| l.cuts.clone()).collect::<Vec<_>>();
+                prop_assert_eq!(cuts(x), cuts(y), "level {}", c);
             }
         }
     }

@@ -8,6 +8,7 @@
 pub mod area;
 pub mod dyadic;
 pub mod filter;
+pub mod grid;
 pub mod level;
 pub mod point;
 pub mod predicates;

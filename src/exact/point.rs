@@ -181,15 +181,8 @@ impl Scaled {
 /// The crossing of edge `(a, b)` with the level in `i128`, unreduced, or
 /// `None` when the inputs do not fit (overflow-checked).
 fn crossing_i128(a: [f64; 3], b: [f64; 3], level: &Level) -> Option<Scaled> {
-    let (k, e0) = common_ints([a[0], a[1], a[2], b[0], b[1], b[2]])?;
-    crossing_of_ints(k, e0, level)
-}
-
-/// The crossing from the ends' coordinates `k 2^e0` (every `|k| < 2^40`).
-#[inline]
-fn crossing_of_ints(k: [i128; 6], e0: i32, level: &Level) -> Option<Scaled> {
-    let [ax, ay, az, bx, by, bz] = k;
     let (p, q) = level.small()?;
+    let ([ax, ay, az, bx, by, bz], e0) = common_ints([a[0], a[1], a[2], b[0], b[1], b[2]])?;
     // In units of 2^e0 the level is p / (q 2^e0).
     let (p, q) = if e0 >= 0 {
         (p, shl_exact(q, e0)?)
@@ -221,67 +214,6 @@ fn crossing_of_ints(k: [i128; 6], e0: i32, level: &Level) -> Option<Scaled> {
         return None;
     }
     Some(Scaled { x, y, w, e: e0 })
-}
-
-/// A mesh position as integers on its own binary grid, `(x, y, z) 2^e`
-/// with every `|k| < 2^40` (the bound of the `i128` crossing), computed
-/// once per vertex so that a crossing need not take its ends' doubles
-/// apart again. Exact.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct GridPosition {
-    k: [i64; 3],
-    /// `i32::MAX` for the origin.
-    e: i32,
-}
-
-impl GridPosition {
-    /// The position on its grid, or `None` when its coordinates span more
-    /// than 40 bits of one grid (or are not finite).
-    pub fn of(p: [f64; 3]) -> Option<Self> {
-        if p.iter().all(|&v| v == 0.0) {
-            return Some(GridPosition {
-                k: [0; 3],
-                e: i32::MAX,
-            });
-        }
-        let (k, e) = common_ints(p)?;
-        Some(GridPosition {
-            k: k.map(|v| v as i64),
-            e,
-        })
-    }
-
-    /// The exact point `(x, y)`.
-    pub fn point(&self) -> LoopPoint {
-        let e = if self.e == i32::MAX { 0 } else { self.e };
-        let [x, y, _] = self.k.map(i128::from);
-        LoopPoint(Repr::Scaled(Scaled { x, y, w: 1, e }))
-    }
-
-    /// The exact crossing of edge `(a, b)` with the level (see
-    /// [`Point2::on_edge`]), held as integers; `None` when they do not
-    /// fit. Identical to the crossing computed from the doubles.
-    pub fn crossing(a: &GridPosition, b: &GridPosition, level: &Level) -> Option<LoopPoint> {
-        let e0 = a.e.min(b.e);
-        let e0 = if e0 == i32::MAX { 0 } else { e0 };
-        let align = |g: &GridPosition| -> Option<[i128; 3]> {
-            if g.e == i32::MAX {
-                return Some([0; 3]);
-            }
-            let s = g.e - e0;
-            let mut out = [0i128; 3];
-            for (o, &k) in out.iter_mut().zip(&g.k) {
-                let v = shl_exact(i128::from(k), s)?;
-                if v.unsigned_abs() >= 1 << 40 {
-                    return None;
-                }
-                *o = v;
-            }
-            Some(out)
-        };
-        let ([ax, ay, az], [bx, by, bz]) = (align(a)?, align(b)?);
-        crossing_of_ints([ax, ay, az, bx, by, bz], e0, level).map(|h| LoopPoint(Repr::Scaled(h)))
-    }
 }
 
 /// An exact point of a loop (S_O, dF, L-, L+), stored compactly: as
@@ -421,12 +353,6 @@ mod tests {
             if let Some(h) = crossing_i128(a, b, &level) {
                 proptest::prop_assert_eq!(h.reduce(), reference.clone());
                 proptest::prop_assert_eq!(h.to_f64(), reference.to_f64());
-            }
-            if let (Some(ga), Some(gb)) = (GridPosition::of(a), GridPosition::of(b)) {
-                let on_grid = GridPosition::crossing(&ga, &gb, &level).map(|p| p.as_integers());
-                let direct = crossing_i128(a, b, &level).map(|h| Some((h.x, h.y, h.w, h.e)));
-                proptest::prop_assert_eq!(on_grid, direct);
-                proptest::prop_assert_eq!(ga.point(), LoopPoint::of_vertex(a));
             }
             let lp = LoopPoint::on_edge(a, b, &level);
             proptest::prop_assert_eq!(lp.exact().into_owned(), reference.clone());

@@ -16,7 +16,8 @@ use crate::classify::{
 };
 use crate::exact::area::{signed_area, total_signed_area};
 use crate::exact::filter::{signed_area_filtered, FilteredPoint};
-use crate::exact::point::{GridPosition, LoopPoint};
+use crate::exact::grid::{GridLevel, MeshGrid};
+use crate::exact::point::LoopPoint;
 use crate::exact::rational::{rat_to_f64, Rat};
 use crate::exact::{Level, Point2, Sign};
 use crate::ids::{EdgeId, FaceId, VertexId};
@@ -184,8 +185,8 @@ pub struct Slicer<'m> {
     mesh: &'m Mesh,
     topo: Topology,
     unit: Rat,
-    /// Each vertex on its binary grid, when it fits (for fast crossings).
-    grid: Vec<Option<GridPosition>>,
+    /// The positions on one binary grid, when they fit (fast crossings).
+    grid: Option<MeshGrid>,
 }
 
 impl<'m> Slicer<'m> {
@@ -204,11 +205,7 @@ impl<'m> Slicer<'m> {
             return Err(SliceError::InvalidMesh(Box::new(report)));
         }
         let topo = report.topology.take().unwrap_or_default();
-        let grid = mesh
-            .positions
-            .iter()
-            .map(|&p| GridPosition::of(p))
-            .collect();
+        let grid = MeshGrid::new(&mesh.positions);
         Ok(Slicer {
             mesh,
             topo,
@@ -308,7 +305,8 @@ enum Family {
 struct LevelBuilder<'a> {
     mesh: &'a Mesh,
     topo: &'a Topology,
-    grid: &'a [Option<GridPosition>],
+    /// The mesh's grid and the level on it, when crossings fit in `i128`.
+    grid: Option<(&'a MeshGrid, GridLevel)>,
     level: &'a Level,
     signs: Signs<'a>,
     active: &'a [FaceId],
@@ -319,7 +317,10 @@ impl<'a> LevelBuilder<'a> {
         LevelBuilder {
             mesh: slicer.mesh,
             topo: &slicer.topo,
-            grid: &slicer.grid,
+            grid: slicer
+                .grid
+                .as_ref()
+                .and_then(|g| Some((g, g.level(level)?))),
             level,
             signs: Signs::new(slicer.mesh, level),
             active,
@@ -332,19 +333,16 @@ impl<'a> LevelBuilder<'a> {
 
     fn cut_point(&self, c: CutPoint) -> LoopPoint {
         match c {
-            CutPoint::AtVertex(v) => match &self.grid[v.idx()] {
-                Some(g) => g.point(),
+            CutPoint::AtVertex(v) => match self.grid {
+                Some((g, _)) => g.point(v),
                 None => LoopPoint::of_vertex(self.mesh.pos(v)),
             },
             CutPoint::OnEdge(e) => {
                 let [a, b] = self.topo.edge(e).v;
-                let on_grid = match (&self.grid[a.idx()], &self.grid[b.idx()]) {
-                    (Some(ga), Some(gb)) => GridPosition::crossing(ga, gb, self.level),
-                    _ => None,
-                };
-                on_grid.unwrap_or_else(|| {
-                    LoopPoint::on_edge(self.mesh.pos(a), self.mesh.pos(b), self.level)
-                })
+                match &self.grid {
+                    Some((g, level)) => g.crossing(a, b, level),
+                    None => LoopPoint::on_edge(self.mesh.pos(a), self.mesh.pos(b), self.level),
+                }
             }
         }
     }
