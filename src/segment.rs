@@ -42,51 +42,69 @@ pub struct Segment {
     pub via: Via,
 }
 
-/// The cut point on the side of corner `i -> i + 1` of face `f` where the
-/// walk changes sign: the edge crossing, or the zero vertex.
-fn crossing_of(topo: &Topology, f: FaceId, i: usize) -> CutPoint {
-    CutPoint::OnEdge(topo.face_edges[f.idx()][i])
-}
+/// The mesh vertices that carry a cut point: the crossed edge's two ends,
+/// or the vertex on the plane twice.
+pub type Carrier = [VertexId; 2];
 
 /// The S_O segment of one face not in F, if its signs change strictly.
 pub fn face_segment(mesh: &Mesh, topo: &Topology, signs: &Signs<'_>, f: FaceId) -> Option<Segment> {
+    face_segment_carried(mesh, topo, signs, f).map(|(s, _)| s)
+}
+
+/// [`face_segment`], with the vertices that carry its start (so the
+/// start's point can be computed without looking the edge up again).
+pub fn face_segment_carried(
+    mesh: &Mesh,
+    topo: &Topology,
+    signs: &Signs<'_>,
+    f: FaceId,
+) -> Option<(Segment, Carrier)> {
     let tri = mesh.faces[f.idx()];
     let s = tri.map(|v| signs.of(v));
     let has = |x: Sign| s.contains(&x);
     if !(has(Sign::Positive) && has(Sign::Negative)) {
         return None;
     }
-    let mut start = None;
-    let mut end = None;
-    match s.iter().position(|&x| x == Sign::Zero) {
+    // The crossing of corner i -> i + 1, with its edge's ends.
+    let crossing = |i: usize| {
+        (
+            CutPoint::OnEdge(topo.face_edges[f.idx()][i]),
+            [tri[i], tri[(i + 1) % 3]],
+        )
+    };
+    let (start, end) = match s.iter().position(|&x| x == Sign::Zero) {
         None => {
+            let mut start = None;
+            let mut end = None;
             for i in 0..3 {
                 match (s[i], s[(i + 1) % 3]) {
-                    (Sign::Positive, Sign::Negative) => start = Some(crossing_of(topo, f, i)),
-                    (Sign::Negative, Sign::Positive) => end = Some(crossing_of(topo, f, i)),
+                    (Sign::Positive, Sign::Negative) => start = Some(crossing(i)),
+                    (Sign::Negative, Sign::Positive) => end = Some(crossing(i).0),
                     _ => {}
                 }
             }
+            (start?, end?)
         }
         Some(k) => {
             // The other two vertices carry + and -; the edge between them
             // (corner k+1 -> k+2) is crossed, the zero vertex is the other end.
             let i = (k + 1) % 3;
-            let zero = CutPoint::AtVertex(tri[k]);
+            let zero = (CutPoint::AtVertex(tri[k]), [tri[k]; 2]);
             if s[i] == Sign::Positive {
-                start = Some(crossing_of(topo, f, i));
-                end = Some(zero);
+                (crossing(i), zero.0)
             } else {
-                start = Some(zero);
-                end = Some(crossing_of(topo, f, i));
+                (zero, crossing(i).0)
             }
         }
-    }
-    Some(Segment {
-        from: start?,
-        to: end?,
-        via: Via::Face(f),
-    })
+    };
+    Some((
+        Segment {
+            from: start.0,
+            to: end,
+            via: Via::Face(f),
+        },
+        start.1,
+    ))
 }
 
 /// The S_O segments that lie on in-plane edges: transversal edges, and

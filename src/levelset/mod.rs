@@ -25,7 +25,9 @@ use crate::mesh::topology::Topology;
 use crate::mesh::validate::{validate, Report};
 use crate::mesh::Mesh;
 use crate::nest::{nest_filtered, Reversals, Role};
-use crate::segment::{edge_segments, face_segment, CutPoint, Segment, Via};
+use crate::segment::{
+    edge_segments, face_segment, face_segment_carried, Carrier, CutPoint, Segment, Via,
+};
 use num_traits::One;
 use rustc_hash::FxHashMap as HashMap;
 use std::sync::Arc;
@@ -331,18 +333,23 @@ impl<'a> LevelBuilder<'a> {
         Point2::of_vertex(self.mesh.pos(v))
     }
 
-    fn cut_point(&self, c: CutPoint) -> LoopPoint {
+    /// The vertices carrying cut point `c` (an edge's ends: one lookup in
+    /// the edge table).
+    fn carrier(&self, c: CutPoint) -> Carrier {
         match c {
-            CutPoint::AtVertex(v) => match self.grid {
-                Some((g, _)) => g.point(v),
-                None => LoopPoint::of_vertex(self.mesh.pos(v)),
-            },
-            CutPoint::OnEdge(e) => {
-                let [a, b] = self.topo.edge(e).v;
-                match &self.grid {
-                    Some((g, level)) => g.crossing(a, b, level),
-                    None => LoopPoint::on_edge(self.mesh.pos(a), self.mesh.pos(b), self.level),
-                }
+            CutPoint::AtVertex(v) => [v; 2],
+            CutPoint::OnEdge(e) => self.topo.edge(e).v,
+        }
+    }
+
+    /// The exact point of cut point `c`, carried by `[a, b]`.
+    fn cut_point(&self, c: CutPoint, [a, b]: Carrier) -> LoopPoint {
+        match (c, &self.grid) {
+            (CutPoint::AtVertex(v), Some((g, _))) => g.point(v),
+            (CutPoint::AtVertex(v), None) => LoopPoint::of_vertex(self.mesh.pos(v)),
+            (CutPoint::OnEdge(_), Some((g, level))) => g.crossing(a, b, level),
+            (CutPoint::OnEdge(_), None) => {
+                LoopPoint::on_edge(self.mesh.pos(a), self.mesh.pos(b), self.level)
             }
         }
     }
@@ -384,14 +391,18 @@ impl<'a> LevelBuilder<'a> {
         let edges = classify_edges(topo, signs, &candidates, &regions, &region_of);
 
         // S_O: crossed faces, transversal edges and shared dF edges.
-        let mut segments: Vec<Segment> = self
+        // Each start's carrier comes with it, so no edge is looked up again.
+        let (mut segments, mut carriers): (Vec<Segment>, Vec<Carrier>) = self
             .active
             .iter()
             .filter(|f| !region_of.contains_key(f))
-            .filter_map(|&f| face_segment(mesh, topo, signs, f))
-            .collect();
-        segments.extend(edge_segments(&edges));
-        let contours = Arc::new(self.loops(&segments)?);
+            .filter_map(|&f| face_segment_carried(mesh, topo, signs, f))
+            .unzip();
+        for s in edge_segments(&edges) {
+            carriers.push(self.carrier(s.from));
+            segments.push(s);
+        }
+        let contours = Arc::new(self.loops_with(&segments, Some(&carriers), Family::Exact)?);
 
         // Saddles: on-plane vertices with 2m >= 4 S_O branches.
         let mut branches: HashMap<VertexId, u32> = HashMap::default();
@@ -529,23 +540,30 @@ impl<'a> LevelBuilder<'a> {
             .filter(|s| !index.contains_key(&(s.to, s.from)))
             .copied()
             .collect();
-        self.loops_with(&kept, Family::OneSided)
+        self.loops_with(&kept, None, Family::OneSided)
     }
 
     fn loops(&self, segments: &[Segment]) -> Result<Vec<Loop>, SliceError> {
-        self.loops_with(segments, Family::Exact)
+        self.loops_with(segments, None, Family::Exact)
     }
 
     /// Chains, computes exact points, decides orientations and nests.
-    fn loops_with(&self, segments: &[Segment], family: Family) -> Result<Vec<Loop>, SliceError> {
+    /// `carriers[i]`, when given, carries the start of `segments[i]`.
+    fn loops_with(
+        &self,
+        segments: &[Segment],
+        carriers: Option<&[Carrier]>,
+        family: Family,
+    ) -> Result<Vec<Loop>, SliceError> {
         let chains = chain_loops(self.topo, segments)?;
+        let start = |i: usize| {
+            let c = segments[i].from;
+            let carrier = carriers.map_or_else(|| self.carrier(c), |k| k[i]);
+            (c, self.cut_point(c, carrier))
+        };
         let mut shapes: Vec<(Vec<CutPoint>, Vec<LoopPoint>)> = chains
             .iter()
-            .map(|ch| {
-                let cuts: Vec<CutPoint> = ch.iter().map(|&i| segments[i].from).collect();
-                let points = cuts.iter().map(|&c| self.cut_point(c)).collect();
-                (cuts, points)
-            })
+            .map(|ch| ch.iter().map(|&i| start(i)).unzip())
             .collect();
         let mut filtered: Vec<Vec<FilteredPoint<'_>>> = shapes
             .iter()
