@@ -11,6 +11,7 @@
 
 use super::point::LoopPoint;
 use super::predicates::{orient2d_rat, Sign};
+use num_traits::Zero;
 
 /// A closed interval of doubles known to contain an exact value.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -20,38 +21,25 @@ pub struct Interval {
 }
 
 impl Interval {
-    /// An interval around a double known to be within half an ulp of the
-    /// exact value (a correctly rounded result).
-    #[inline]
-    fn around(f: f64) -> Interval {
-        Interval {
-            lo: f.next_down(),
-            hi: f.next_up(),
-        }
-    }
+    const EVERYTHING: Interval = Interval {
+        lo: f64::NEG_INFINITY,
+        hi: f64::INFINITY,
+    };
 
-    /// An interval around `n 2^e / w` (`w > 0`) from one rounded
-    /// division: `n` and `w` are converted to doubles (relative error below
-    /// `1.001u` each, `u = 2^-53`) and divided (relative error below `4u`
-    /// in all), then widened by `8u |v|` (an exact product) and one ulp
-    /// each way. `None` outside the range where that
-    /// product is exact and nothing overflows.
+    /// The enclosure of an exact value from its approximation `v`
+    /// (see [`FilteredPoint`]): `[v - r, v + r]` with `r = 2^-50 |v|` (an
+    /// exact product in this range), widened by one ulp each way.
     #[inline]
-    fn around_ratio(n: i128, w: i128, e: i32) -> Option<Interval> {
-        if n == 0 {
-            return Some(Interval { lo: 0.0, hi: 0.0 });
+    fn around(v: f64) -> Interval {
+        if v == 0.0 {
+            return Interval { lo: 0.0, hi: 0.0 };
         }
-        if !(-900..=900).contains(&e) {
-            return None;
-        }
-        let scale = f64::from_bits(((e + 1023) as u64) << 52);
-        let v = to_f64_within_ulp(n) / to_f64_within_ulp(w) * scale;
         let m = v.abs();
-        if !(1e-250..=1e250).contains(&m) {
-            return None;
+        if !(TINY..).contains(&m) {
+            return Interval::EVERYTHING;
         }
-        let r = m * f64::from_bits((1023 - 50) << 52);
-        Some(Interval::widen(v - r, v + r))
+        let r = m * REL;
+        Interval::widen(v - r, v + r)
     }
 
     #[inline]
@@ -81,10 +69,7 @@ impl Interval {
             self.hi * o.hi,
         ];
         if p.iter().any(|x| x.is_nan()) {
-            return Interval {
-                lo: f64::NEG_INFINITY,
-                hi: f64::INFINITY,
-            };
+            return Interval::EVERYTHING;
         }
         let lo = p.iter().copied().fold(f64::INFINITY, f64::min);
         let hi = p.iter().copied().fold(f64::NEG_INFINITY, f64::max);
@@ -104,6 +89,13 @@ impl Interval {
     }
 }
 
+/// The relative error bound of a point's approximation: `2^-50`.
+const REL: f64 = 1.0 / (1u64 << 50) as f64;
+
+/// Below this magnitude an approximation carries no relative bound
+/// (subnormal results, and `2^-50 |v|` would not be exact).
+const TINY: f64 = f64::from_bits((1023 - 960) << 52);
+
 /// `v` as a double within `(1 + 2^-9) u |v|`: the top 63 bits truncated
 /// (relative error below `2^-62`), then rounded by the hardware's `i64`
 /// conversion (`i128` conversion is a slow library call).
@@ -116,37 +108,85 @@ fn to_f64_within_ulp(v: i128) -> f64 {
     ((v >> shift) as i64 as f64) * f64::from_bits(((shift + 1023) as u64) << 52)
 }
 
+/// An approximation of `n 2^e / w` (`w > 0`) within `2^-50` of it,
+/// relatively, from one rounded division: `n` and `w` converted to
+/// doubles (relative error below `1.001u` each, `u = 2^-53`), divided
+/// (below `4u` in all). `None` out of the range where scaling is exact.
+#[inline]
+fn approx_ratio(n: i128, w: i128, e: i32) -> Option<f64> {
+    if n == 0 {
+        return Some(0.0);
+    }
+    if !(-900..=900).contains(&e) {
+        return None;
+    }
+    let scale = f64::from_bits(((e + 1023) as u64) << 52);
+    let v = to_f64_within_ulp(n) / to_f64_within_ulp(w) * scale;
+    (TINY..=1.0 / TINY).contains(&v.abs()).then_some(v)
+}
+
 /// The bits of a point's nearest doubles: equal for equal points (so a
 /// cheap hash key), possibly equal for distinct ones.
 pub type Key = (u64, u64);
 
-/// An exact point with interval enclosures of its coordinates, computed once.
+/// An exact point with approximations of its coordinates and enclosures
+/// derived from them, computed once: each approximation is exactly zero
+/// when the coordinate is, else within `2^-50` of it relatively when its
+/// magnitude is at least `2^-960`, else NaN (no information).
 #[derive(Clone, Debug)]
 pub struct FilteredPoint<'a> {
     exact: &'a LoopPoint,
-    x: Interval,
-    y: Interval,
+    x: f64,
+    y: f64,
+    /// The enclosures derived from `x` and `y`.
+    ix: Interval,
+    iy: Interval,
 }
 
 impl<'a> FilteredPoint<'a> {
-    /// Encloses an exact point.
+    /// Approximates an exact point.
     pub fn new(p: &'a LoopPoint) -> Self {
-        let from_integers = p.as_integers().and_then(|(x, y, w, e)| {
-            Some((
-                Interval::around_ratio(x, w, e)?,
-                Interval::around_ratio(y, w, e)?,
-            ))
-        });
+        let from_integers = p
+            .as_integers()
+            .and_then(|(x, y, w, e)| Some((approx_ratio(x, w, e)?, approx_ratio(y, w, e)?)));
         let (x, y) = from_integers.unwrap_or_else(|| {
+            // The nearest doubles: within 2^-53 relatively when normal.
             let [x, y] = p.to_f64();
-            (Interval::around(x), Interval::around(y))
+            let exact = p.exact();
+            let bounded = |v: f64, zero: bool| {
+                if v == 0.0 && zero {
+                    0.0
+                } else if v.abs() >= TINY && v.is_finite() {
+                    v
+                } else {
+                    f64::NAN
+                }
+            };
+            (bounded(x, exact.x.is_zero()), bounded(y, exact.y.is_zero()))
         });
-        FilteredPoint { exact: p, x, y }
+        FilteredPoint {
+            exact: p,
+            x,
+            y,
+            ix: Interval::around(x),
+            iy: Interval::around(y),
+        }
+    }
+
+    #[inline]
+    fn x(&self) -> Interval {
+        self.ix
+    }
+
+    #[inline]
+    fn y(&self) -> Interval {
+        self.iy
     }
 
     /// Doubles enclosing the exact point: `([x_lo, y_lo], [x_hi, y_hi])`.
     pub fn bounds(&self) -> ([f64; 2], [f64; 2]) {
-        ([self.x.lo, self.y.lo], [self.x.hi, self.y.hi])
+        let (x, y) = (self.x(), self.y());
+        ([x.lo, y.lo], [x.hi, y.hi])
     }
 
     /// The nearest doubles as a hash key (a correctly rounded division
@@ -159,7 +199,7 @@ impl<'a> FilteredPoint<'a> {
     /// Whether the enclosures prove the two points distinct.
     pub fn disjoint(&self, other: &FilteredPoint<'_>) -> bool {
         let apart = |a: Interval, b: Interval| a.hi < b.lo || b.hi < a.lo;
-        apart(self.x, other.x) || apart(self.y, other.y)
+        apart(self.x(), other.x()) || apart(self.y(), other.y())
     }
 
     /// The exact point.
@@ -170,9 +210,10 @@ impl<'a> FilteredPoint<'a> {
 
 /// Exact comparison of the y coordinates of two points (filtered).
 pub fn cmp_y(a: &FilteredPoint<'_>, b: &FilteredPoint<'_>) -> std::cmp::Ordering {
-    if a.y.hi < b.y.lo {
+    let (ay, by) = (a.y(), b.y());
+    if ay.hi < by.lo {
         std::cmp::Ordering::Less
-    } else if a.y.lo > b.y.hi {
+    } else if ay.lo > by.hi {
         std::cmp::Ordering::Greater
     } else {
         a.exact.exact().y.cmp(&b.exact.exact().y)
@@ -186,10 +227,11 @@ pub fn orient2d_filtered(
     b: &FilteredPoint<'_>,
     c: &FilteredPoint<'_>,
 ) -> Sign {
-    let det =
-        b.x.sub(a.x)
-            .mul(c.y.sub(a.y))
-            .sub(b.y.sub(a.y).mul(c.x.sub(a.x)));
+    let det = b
+        .x()
+        .sub(a.x())
+        .mul(c.y().sub(a.y()))
+        .sub(b.y().sub(a.y()).mul(c.x().sub(a.x())));
     det.sign()
         .unwrap_or_else(|| orient2d_rat(&a.exact.exact(), &b.exact.exact(), &c.exact.exact()))
 }
@@ -197,27 +239,81 @@ pub fn orient2d_filtered(
 /// A certified estimate of a polygon's signed area.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AreaEstimate {
-    /// The exact sign, when the enclosure excludes zero.
+    /// The exact sign, when the certified error bound excludes zero.
     pub sign: Option<Sign>,
-    /// The midpoint of an interval of doubles that contains the exact
-    /// signed area (so of the exact sign whenever `sign` is known).
+    /// A double within the certified bound of the exact signed area (so
+    /// of the exact sign whenever `sign` is known).
     pub approx: f64,
 }
 
-/// Encloses the exact signed area of a closed polygon (shoelace in
-/// interval arithmetic, every operation widened outward by one ulp).
+/// Estimates the exact signed area of a closed polygon: the shoelace on
+/// the approximations in plain doubles with an a-priori error bound, or,
+/// when coordinates are out of that bound's range, in interval arithmetic
+/// (every operation widened outward by one ulp).
 pub fn signed_area_filtered(points: &[FilteredPoint<'_>]) -> AreaEstimate {
+    if points.len() < 3 {
+        return AreaEstimate {
+            sign: Some(Sign::Zero),
+            approx: 0.0,
+        };
+    }
+    signed_area_static(points).unwrap_or_else(|| signed_area_intervals(points))
+}
+
+/// The shoelace `S = sum(x_i y_j - x_j y_i)` on the approximations, with
+/// `M = sum(|x_i y_j| + |x_j y_i|)`. Each coordinate is within
+/// `eps = 2^-50` of its exact value relatively, so each exact product is
+/// within `(2 eps + eps^2)` of the product of approximations; rounding the
+/// `2n` products and summing them adds at most `u + gamma_2n (1 + u)` of
+/// `M` (`u = 2^-53`, `gamma_k = k u / (1 - k u)`), and `M` itself is
+/// computed within `gamma_2n`. Hence `|S - 2A| <= (2.03 eps + 1.04 g) M`
+/// with `g = (2n + 4) u < 0.01`, and `B = (2.1 eps + 2 g) M` bounds it with
+/// room for its own rounding. Coordinates must be zero or in
+/// `[2^-480, 2^480]` so that no product underflows or overflows.
+fn signed_area_static(points: &[FilteredPoint<'_>]) -> Option<AreaEstimate> {
+    const LO: f64 = f64::from_bits((1023 - 480) << 52);
+    const HI: f64 = f64::from_bits((1023 + 480) << 52);
+    let n = points.len();
+    let in_range = |v: f64| v == 0.0 || (LO..=HI).contains(&v.abs());
+    let g = (2 * n + 4) as f64 * (f64::EPSILON / 2.0);
+    if g >= 0.01 || !points.iter().all(|p| in_range(p.x) && in_range(p.y)) {
+        return None;
+    }
+    let (mut twice, mut magnitude) = (0.0f64, 0.0f64);
+    let mut prev = &points[n - 1];
+    for p in points {
+        let (a, b) = (prev.x * p.y, p.x * prev.y);
+        twice += a - b;
+        magnitude += a.abs() + b.abs();
+        prev = p;
+    }
+    let bound = (2.1 * REL + 2.0 * g) * magnitude;
+    let sign = if twice > bound {
+        Some(Sign::Positive)
+    } else if twice < -bound {
+        Some(Sign::Negative)
+    } else {
+        None
+    };
+    Some(AreaEstimate {
+        sign,
+        approx: twice / 2.0,
+    })
+}
+
+/// The shoelace in interval arithmetic.
+fn signed_area_intervals(points: &[FilteredPoint<'_>]) -> AreaEstimate {
     let n = points.len();
     let mut twice = Interval { lo: 0.0, hi: 0.0 };
     for i in 0..n {
         let (p, q) = (&points[i], &points[(i + 1) % n]);
-        twice = twice.add(p.x.mul(q.y).sub(q.x.mul(p.y)));
+        twice = twice.add(p.x().mul(q.y()).sub(q.x().mul(p.y())));
     }
     // Halving is exact (barring underflow, which the widening covers).
     let (lo, hi) = ((twice.lo / 2.0).next_down(), (twice.hi / 2.0).next_up());
     let area = Interval { lo, hi };
     AreaEstimate {
-        sign: if n < 3 { Some(Sign::Zero) } else { area.sign() },
+        sign: area.sign(),
         approx: lo / 2.0 + hi / 2.0,
     }
 }
@@ -263,6 +359,40 @@ mod tests {
                 prop_assert_eq!(s, Sign::of_rat(&exact));
                 if s != Sign::Zero {
                     prop_assert_eq!(Sign::of_rat(&crate::exact::rational::rat_from_f64(est.approx)), s);
+                }
+            }
+        }
+
+        /// The static bound on points held as integers (long, thin and
+        /// degenerate polygons: a line with one point a tiny step off).
+        #[test]
+        fn static_area_bound_is_certified(
+            pts in proptest::collection::vec((-(1i128 << 100)..(1i128 << 100), -(1i128 << 100)..(1i128 << 100), 1i128..(1 << 60)), 3..200),
+            e in -200i32..200, thin in 0u8..3, off in -3i128..=3
+        ) {
+            let mut held: Vec<LoopPoint> = pts.iter().map(|&(x, y, w)| LoopPoint::from_integers(x, y, w, e).unwrap()).collect();
+            if thin > 0 {
+                // Every point on the line y = 3x (over w), one moved by `off`.
+                for (i, p) in held.iter_mut().enumerate() {
+                    let (x, _, w, _) = p.as_integers().unwrap();
+                    let x = x >> 2;
+                    let y = 3 * x + if i == 1 { off } else { 0 };
+                    *p = LoopPoint::from_integers(x, y, w, e).unwrap();
+                }
+            }
+            let f: Vec<FilteredPoint<'_>> = held.iter().map(FilteredPoint::new).collect();
+            let exact_points: Vec<Point2> = held.iter().map(|p| p.exact().into_owned()).collect();
+            let exact = crate::exact::area::signed_area_reference(&exact_points);
+            let est = signed_area_filtered(&f);
+            if let Some(s) = est.sign {
+                prop_assert_eq!(s, Sign::of_rat(&exact));
+                if s != Sign::Zero {
+                    prop_assert_eq!(Sign::of_rat(&crate::exact::rational::rat_from_f64(est.approx)), s);
+                }
+            }
+            if let Some(st) = signed_area_static(&f) {
+                if let Some(s) = st.sign {
+                    prop_assert_eq!(s, Sign::of_rat(&exact));
                 }
             }
         }
