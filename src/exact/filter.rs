@@ -138,14 +138,22 @@ pub struct FilteredPoint<'a> {
     exact: &'a LoopPoint,
     x: f64,
     y: f64,
-    /// The enclosures derived from `x` and `y`.
+    /// The enclosures derived from `x` and `y` (see `enclose`).
     ix: Interval,
     iy: Interval,
 }
 
 impl<'a> FilteredPoint<'a> {
-    /// Approximates an exact point.
+    /// Approximates an exact point and encloses it.
     pub fn new(p: &'a LoopPoint) -> Self {
+        let mut f = Self::approximate(p);
+        f.enclose();
+        f
+    }
+
+    /// Approximates an exact point; its enclosures say nothing (the whole
+    /// line) until [`FilteredPoint::enclose`]. Enough for the loop area.
+    pub fn approximate(p: &'a LoopPoint) -> Self {
         let from_integers = p
             .as_integers()
             .and_then(|(x, y, w, e)| Some((approx_ratio(x, w, e)?, approx_ratio(y, w, e)?)));
@@ -168,9 +176,15 @@ impl<'a> FilteredPoint<'a> {
             exact: p,
             x,
             y,
-            ix: Interval::around(x),
-            iy: Interval::around(y),
+            ix: Interval::EVERYTHING,
+            iy: Interval::EVERYTHING,
         }
+    }
+
+    /// Computes the enclosures from the approximations.
+    pub fn enclose(&mut self) {
+        self.ix = Interval::around(self.x);
+        self.iy = Interval::around(self.y);
     }
 
     #[inline]

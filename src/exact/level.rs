@@ -70,6 +70,31 @@ impl Level {
     /// `sign(h - c)` for a finite double `h`, decided exactly.
     #[inline]
     pub fn sign_of(&self, h: f64) -> Sign {
+        self.bracket().sign_of(h)
+    }
+
+    /// The bracketing doubles alone (16 bytes: for scanning many levels).
+    #[inline]
+    pub fn bracket(&self) -> Bracket {
+        Bracket {
+            lo: self.lo,
+            hi: self.hi,
+        }
+    }
+}
+
+/// The two adjacent doubles bracketing a level, which decide
+/// `sign(h - c)` for every double `h` exactly.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bracket {
+    lo: f64,
+    hi: f64,
+}
+
+impl Bracket {
+    /// `sign(h - c)` for a finite double `h`, decided exactly.
+    #[inline]
+    pub fn sign_of(self, h: f64) -> Sign {
         if self.lo == self.hi {
             Sign::of_cmp(h.partial_cmp(&self.lo))
         } else if h <= self.lo {

@@ -12,6 +12,7 @@
 //! channels, not by the number of levels, and every level is computed from
 //! the same sorted active faces, so the output does not depend on `T`.
 
+use crate::exact::level::Bracket;
 use crate::exact::rational::Rat;
 use crate::exact::{Level, Sign};
 use crate::ids::FaceId;
@@ -56,6 +57,7 @@ impl Heights {
     fn new(slicer: &Slicer<'_>, levels: &[Rat]) -> Self {
         let mesh = slicer.mesh();
         let grid: Vec<Level> = levels.iter().map(|c| slicer.grid_level(c)).collect();
+        let brackets: Vec<Bracket> = grid.iter().map(Level::bracket).collect();
         let mut entering = vec![Vec::new(); grid.len()];
         let mut max = Vec::with_capacity(mesh.num_faces());
         for (f, tri) in mesh.faces.iter().enumerate() {
@@ -63,8 +65,8 @@ impl Heights {
             let (lo, hi) = (z[0].min(z[1]).min(z[2]), z[0].max(z[1]).max(z[2]));
             max.push(hi);
             // Levels below the face's lowest point: z_min > c, exactly.
-            let first = grid.partition_point(|l| l.sign_of(lo) == Sign::Positive);
-            if first < grid.len() && grid[first].sign_of(hi) != Sign::Negative {
+            let first = brackets.partition_point(|l| l.sign_of(lo) == Sign::Positive);
+            if first < grid.len() && brackets[first].sign_of(hi) != Sign::Negative {
                 entering[first].push(FaceId::from_idx(f));
             }
         }

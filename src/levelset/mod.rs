@@ -261,7 +261,7 @@ impl<'m> Slicer<'m> {
                 }
                 // The sign is unchanged (u^2 > 0); the rounding is redone.
                 let filtered: Vec<FilteredPoint<'_>> =
-                    l.points.iter().map(FilteredPoint::new).collect();
+                    l.points.iter().map(FilteredPoint::approximate).collect();
                 l.area_approx = orientation_of(&filtered, &l.points).1;
             };
             let shared = Arc::ptr_eq(&ls.contours, &ls.below);
@@ -567,7 +567,7 @@ impl<'a> LevelBuilder<'a> {
             .collect();
         let mut filtered: Vec<Vec<FilteredPoint<'_>>> = shapes
             .iter()
-            .map(|(_, pts)| pts.iter().map(FilteredPoint::new).collect())
+            .map(|(_, pts)| pts.iter().map(FilteredPoint::approximate).collect())
             .collect();
         let orientations: Vec<(Sign, f64)> = filtered
             .iter()
@@ -577,7 +577,7 @@ impl<'a> LevelBuilder<'a> {
         let kept: Vec<usize> = (0..shapes.len())
             .filter(|&i| !(family == Family::OneSided && orientations[i].0 == Sign::Zero))
             .collect();
-        let kept_filtered: Vec<Vec<FilteredPoint<'_>>> = kept
+        let mut kept_filtered: Vec<Vec<FilteredPoint<'_>>> = kept
             .iter()
             .map(|&i| std::mem::take(&mut filtered[i]))
             .collect();
@@ -585,7 +585,7 @@ impl<'a> LevelBuilder<'a> {
             Family::Exact => Reversals::Impossible,
             Family::OneSided => Reversals::Possible,
         };
-        let nesting = nest_filtered(&kept_filtered, reversals);
+        let nesting = nest_filtered(&mut kept_filtered, reversals);
         drop((kept_filtered, filtered));
         let mut loops = Vec::with_capacity(kept.len());
         for (&i, n) in kept.iter().zip(nesting) {

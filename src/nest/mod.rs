@@ -132,19 +132,33 @@ pub enum Reversals {
 
 /// Nests a family of loops. `loops[i]` is the exact polygon of loop `i`.
 pub fn nest<P: AsRef<[LoopPoint]>>(loops: &[P]) -> Vec<Nesting> {
-    let filtered: Vec<Vec<FilteredPoint<'_>>> = loops
+    let mut filtered: Vec<Vec<FilteredPoint<'_>>> = loops
         .iter()
-        .map(|l| l.as_ref().iter().map(FilteredPoint::new).collect())
+        .map(|l| l.as_ref().iter().map(FilteredPoint::approximate).collect())
         .collect();
-    nest_filtered(&filtered, Reversals::Possible)
+    nest_filtered(&mut filtered, Reversals::Possible)
 }
 
-/// [`nest`] for loops whose points are already enclosed.
-pub fn nest_filtered(filtered: &[Vec<FilteredPoint<'_>>], reversals: Reversals) -> Vec<Nesting> {
+/// [`nest`] for loops whose points are already approximated (they are
+/// enclosed here when there is more than one loop).
+pub fn nest_filtered(
+    filtered: &mut [Vec<FilteredPoint<'_>>],
+    reversals: Reversals,
+) -> Vec<Nesting> {
     let n = filtered.len();
-    if n == 0 {
-        return Vec::new();
+    if n < 2 {
+        let alone = Nesting {
+            role: Role::Outer,
+            parent: None,
+            depth: 0,
+        };
+        return vec![alone; n];
     }
+    filtered
+        .iter_mut()
+        .flatten()
+        .for_each(FilteredPoint::enclose);
+    let filtered: &[Vec<FilteredPoint<'_>>] = filtered;
     let keys: Vec<Vec<Key>> = match reversals {
         Reversals::Possible => filtered
             .iter()
