@@ -28,6 +28,9 @@ struct Homogeneous {
 pub trait ExactPoint {
     /// `(X, Y, D)` with the point `(X / D, Y / D)`, `D > 0`.
     fn over_one_denominator(&self) -> (BigInt, BigInt, BigInt);
+
+    /// An upper bound on the bits of that `D`, without building it.
+    fn denominator_bits(&self) -> u64;
 }
 
 impl ExactPoint for Point2 {
@@ -38,6 +41,10 @@ impl ExactPoint for Point2 {
         }
         let d = dx.lcm(dy);
         (self.x.numer() * (&d / dx), self.y.numer() * (&d / dy), d)
+    }
+
+    fn denominator_bits(&self) -> u64 {
+        self.x.denom().bits() + self.y.denom().bits()
     }
 }
 
@@ -55,6 +62,15 @@ impl ExactPoint for LoopPoint {
                 BigInt::from(w) << e.unsigned_abs(),
             ),
             None => self.exact().over_one_denominator(),
+        }
+    }
+
+    fn denominator_bits(&self) -> u64 {
+        match self.as_integers() {
+            Some((_, _, w, e)) => {
+                u64::from(128 - w.leading_zeros()) + u64::from(e.min(0).unsigned_abs())
+            }
+            None => self.exact().denominator_bits(),
         }
     }
 }
@@ -121,6 +137,21 @@ impl AreaSum {
     /// The nearest double of the exact area.
     pub fn to_f64(&self) -> f64 {
         rat_to_f64(&Rat::new_raw(self.twice.clone(), &self.product * 2))
+    }
+
+    /// An upper bound on [`AreaSum::denominator_bits`] of the same
+    /// polygons, from the points' denominators alone (linear time, no big
+    /// numbers): to decide whether the exact sum is worth building.
+    pub fn denominator_bits_bound<'a, P: ExactPoint + 'a>(
+        polygons: impl IntoIterator<Item = &'a [P]>,
+    ) -> u64 {
+        let points: u64 = polygons
+            .into_iter()
+            .filter(|p| p.len() >= 3)
+            .flatten()
+            .map(ExactPoint::denominator_bits)
+            .sum();
+        points + 2
     }
 
     /// Bits of the unreduced denominator: an upper bound on the reduced
@@ -267,6 +298,16 @@ mod tests {
             let reference = signed_area_reference(&poly);
             proptest::prop_assert_eq!(fast.numer(), reference.numer());
             proptest::prop_assert_eq!(fast.denom(), reference.denom());
+            // The cheap bound bounds the unreduced denominator, for both
+            // kinds of points (rationals, and integers over w 2^-e).
+            let sum = AreaSum::of([poly.as_slice()]);
+            proptest::prop_assert!(AreaSum::denominator_bits_bound([poly.as_slice()]) >= sum.denominator_bits());
+            let held: Vec<LoopPoint> = pts
+                .iter()
+                .map(|&((a, b), (c, d))| LoopPoint::from_integers((a * d).into(), (c * b).into(), (b * d).into(), -3).unwrap())
+                .collect();
+            let sum = AreaSum::of([held.as_slice()]);
+            proptest::prop_assert!(AreaSum::denominator_bits_bound([held.as_slice()]) >= sum.denominator_bits());
         }
     }
 

@@ -178,6 +178,15 @@ pub fn ratio_to_f64(n: i128, d: u128, e: i32) -> f64 {
     if n == 0 {
         return 0.0;
     }
+    // Both exact as doubles: one IEEE division rounds correctly, and the
+    // power-of-two scaling is exact while the result stays normal.
+    const EXACT: u128 = 1 << 53;
+    if n.unsigned_abs() <= EXACT && d <= EXACT && (-1000..=1000).contains(&e) {
+        let v = (n as f64) / (d as f64) * f64::from_bits(((e + 1023) as u64) << 52);
+        if v.abs() >= f64::MIN_POSITIVE && v.is_finite() {
+            return v;
+        }
+    }
     ratio_to_f64_normal(n.unsigned_abs(), d, e)
         .map(|f| if n < 0 { -f } else { f })
         .unwrap_or_else(|| rat_to_f64(&ratio_to_rat(n, d, e)))

@@ -21,16 +21,18 @@ const EXACT_TEXT_BITS: u64 = 4096;
 /// only when the exact fraction is huge (crossings on many edges with
 /// distinct denominators); `--format json --exact` has each loop's.
 fn loops_area_text(loops: &[Loop]) -> String {
-    let sum = AreaSum::of(loops.iter().map(|l| l.points.as_slice()));
-    if sum.denominator_bits() <= EXACT_TEXT_BITS {
-        area_text(&sum.reduce())
-    } else {
-        format!(
-            "~{} (exact denominator up to {} bits: see --format json --exact)",
-            sum.to_f64(),
-            sum.denominator_bits()
-        )
+    let polygons = || loops.iter().map(|l| l.points.as_slice());
+    let bound = AreaSum::denominator_bits_bound(polygons());
+    if bound <= EXACT_TEXT_BITS {
+        let sum = AreaSum::of(polygons());
+        if sum.denominator_bits() <= EXACT_TEXT_BITS {
+            return area_text(&sum.reduce());
+        }
     }
+    // The loops' certified roundings, summed (not built exactly: a
+    // fraction this size costs more than the slicing).
+    let approx: f64 = loops.iter().map(|l| l.area_approx).sum();
+    format!("~{approx} (exact denominator up to {bound} bits: see --format json --exact)")
 }
 
 fn roles(loops: &[Loop]) -> (usize, usize) {
@@ -155,9 +157,9 @@ mod tests {
             level: Rat::default(),
             contours: std::sync::Arc::new(vec![Loop {
                 cuts: vec![CutPoint::AtVertex(crate::ids::VertexId(0)); points.len()],
+                area_approx: rat_to_f64(&crate::exact::area::signed_area(&points)),
                 points: points.into_iter().map(Into::into).collect(),
                 orientation: Sign::Positive,
-                area_approx: 0.0,
                 role: Role::Outer,
                 parent: None,
             }]),
