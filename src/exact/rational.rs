@@ -209,6 +209,10 @@ fn ratio_to_f64_normal(num: u128, d: u128, e: i32) -> Option<f64> {
         let high = num >> k;
         let dropped = k > 0 && num & ((1u128 << k) - 1) != 0;
         (high / d, dropped || high % d != 0)
+    } else if s as u32 <= num.leading_zeros() {
+        // The shifted numerator fits: one division.
+        let shifted = num << s;
+        (shifted / d, shifted % d != 0)
     } else {
         // Long division, as many bits per step as `d` leaves room for.
         let (mut q, mut r) = (num / d, num % d);
