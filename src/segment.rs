@@ -48,19 +48,19 @@ pub type Carrier = [VertexId; 2];
 
 /// The S_O segment of one face not in F, if its signs change strictly.
 pub fn face_segment(mesh: &Mesh, topo: &Topology, signs: &Signs<'_>, f: FaceId) -> Option<Segment> {
-    face_segment_carried(mesh, topo, signs, f).map(|(s, _)| s)
+    let tri = mesh.faces[f.idx()];
+    face_segment_of_signs(topo, f, tri, tri.map(|v| signs.of(v))).map(|(s, _)| s)
 }
 
-/// [`face_segment`], with the vertices that carry its start (so the
-/// start's point can be computed without looking the edge up again).
-pub fn face_segment_carried(
-    mesh: &Mesh,
+/// [`face_segment`] from face `f`'s vertices `tri` and their signs `s`,
+/// with the vertices that carry its start (so the start's point can be
+/// computed without looking the edge up again).
+pub fn face_segment_of_signs(
     topo: &Topology,
-    signs: &Signs<'_>,
     f: FaceId,
+    tri: [VertexId; 3],
+    s: [Sign; 3],
 ) -> Option<(Segment, Carrier)> {
-    let tri = mesh.faces[f.idx()];
-    let s = tri.map(|v| signs.of(v));
     let has = |x: Sign| s.contains(&x);
     if !(has(Sign::Positive) && has(Sign::Negative)) {
         return None;

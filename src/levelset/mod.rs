@@ -26,7 +26,7 @@ use crate::mesh::validate::{validate, Report};
 use crate::mesh::Mesh;
 use crate::nest::{nest_filtered, Reversals, Role};
 use crate::segment::{
-    edge_segments, face_segment, face_segment_carried, Carrier, CutPoint, Segment, Via,
+    edge_segments, face_segment, face_segment_of_signs, Carrier, CutPoint, Segment, Via,
 };
 use num_traits::One;
 use rustc_hash::FxHashMap as HashMap;
@@ -358,46 +358,49 @@ impl<'a> LevelBuilder<'a> {
         let mesh = self.mesh;
         let topo = self.topo;
         let signs = &self.signs;
-        let zero = |v: VertexId| signs.is_zero(v);
 
-        // F: faces with three vertices on the plane.
-        let in_plane: Vec<FaceId> = self
-            .active
-            .iter()
-            .copied()
-            .filter(|&f| mesh.faces[f.idx()].iter().all(|&v| zero(v)))
-            .collect();
-        let mut region_of = HashMap::default();
-        let regions = face_regions(mesh, topo, signs, &in_plane, &mut region_of);
-
-        // In-plane edges, decided once each by the edge table.
+        // One pass over the faces touching the plane, each vertex sign
+        // taken once per face: F's faces (three zeros), in-plane edge
+        // candidates, vertices on the plane, and the S_O segments of
+        // crossed faces (faces of F have no segment: no + and -). Each
+        // segment's start carrier comes with it, so no edge is looked up
+        // again.
+        let mut in_plane: Vec<FaceId> = Vec::new();
         let mut candidates: Vec<EdgeId> = Vec::new();
         let mut on_plane: Vec<VertexId> = Vec::new();
+        let mut segments: Vec<Segment> = Vec::new();
+        let mut carriers: Vec<Carrier> = Vec::new();
         for &f in self.active {
             let tri = mesh.faces[f.idx()];
-            for c in 0..3 {
-                if zero(tri[c]) {
-                    on_plane.push(tri[c]);
-                    if zero(tri[(c + 1) % 3]) {
-                        candidates.push(topo.face_edges[f.idx()][c]);
+            let s = tri.map(|v| signs.of(v));
+            if s.contains(&Sign::Zero) {
+                if s.iter().all(|&x| x == Sign::Zero) {
+                    in_plane.push(f);
+                }
+                for c in 0..3 {
+                    if s[c] == Sign::Zero {
+                        on_plane.push(tri[c]);
+                        if s[(c + 1) % 3] == Sign::Zero {
+                            candidates.push(topo.face_edges[f.idx()][c]);
+                        }
                     }
                 }
             }
+            if let Some((seg, carrier)) = face_segment_of_signs(topo, f, tri, s) {
+                segments.push(seg);
+                carriers.push(carrier);
+            }
         }
+        let mut region_of = HashMap::default();
+        let regions = face_regions(mesh, topo, signs, &in_plane, &mut region_of);
         candidates.sort_unstable();
         candidates.dedup();
         on_plane.sort_unstable();
         on_plane.dedup();
         let edges = classify_edges(topo, signs, &candidates, &regions, &region_of);
 
-        // S_O: crossed faces, transversal edges and shared dF edges.
-        // Each start's carrier comes with it, so no edge is looked up again.
-        let (mut segments, mut carriers): (Vec<Segment>, Vec<Carrier>) = self
-            .active
-            .iter()
-            .filter(|f| !region_of.contains_key(f))
-            .filter_map(|&f| face_segment_carried(mesh, topo, signs, f))
-            .unzip();
+        // S_O: the crossed faces' segments, then transversal edges and
+        // shared dF edges.
         for s in edge_segments(&edges) {
             carriers.push(self.carrier(s.from));
             segments.push(s);
