@@ -42,15 +42,23 @@ pub enum SweepError<E: std::error::Error + 'static> {
     Threads(String),
 }
 
-/// Each face filed under the first level at or above its lowest height
-/// (found by binary search over the levels: O(n log k) for n faces and k
-/// levels, no sort), with each face's highest height. Faces above the
-/// last level, or strictly between two levels, touch no level and are
-/// left out at once.
+/// A face in the sweep, with its highest height.
+#[derive(Clone, Copy, Debug)]
+struct Entry {
+    face: FaceId,
+    top: f64,
+}
+
+/// Each face filed under the first level at or above its lowest height,
+/// with its highest height (so the sweep never looks a face up again).
+/// The level is found by interpolating in the levels' approximations and
+/// confirming with two exact comparisons (O(1) for evenly spaced levels),
+/// else by binary search (O(log k)): O(n log k) for n faces and k levels
+/// at worst, no sort. Faces above the last level, or strictly between two
+/// levels, touch no level and are left out at once.
 struct Heights {
     grid: Vec<Level>,
-    entering: Vec<Vec<FaceId>>,
-    max: Vec<f64>,
+    entering: Vec<Vec<Entry>>,
 }
 
 impl Heights {
@@ -58,23 +66,48 @@ impl Heights {
         let mesh = slicer.mesh();
         let grid: Vec<Level> = levels.iter().map(|c| slicer.grid_level(c)).collect();
         let brackets: Vec<Bracket> = grid.iter().map(Level::bracket).collect();
+        let approx: Vec<f64> = grid.iter().map(Level::approx).collect();
         let mut entering = vec![Vec::new(); grid.len()];
-        let mut max = Vec::with_capacity(mesh.num_faces());
         for (f, tri) in mesh.faces.iter().enumerate() {
             let z = tri.map(|v| mesh.positions[v.idx()][2]);
             let (lo, hi) = (z[0].min(z[1]).min(z[2]), z[0].max(z[1]).max(z[2]));
-            max.push(hi);
-            // Levels below the face's lowest point: z_min > c, exactly.
-            let first = brackets.partition_point(|l| l.sign_of(lo) == Sign::Positive);
+            let first = first_level_at_or_above(&brackets, &approx, lo);
             if first < grid.len() && brackets[first].sign_of(hi) != Sign::Negative {
-                entering[first].push(FaceId::from_idx(f));
+                entering[first].push(Entry {
+                    face: FaceId::from_idx(f),
+                    top: hi,
+                });
             }
         }
-        Heights {
-            grid,
-            entering,
-            max,
-        }
+        Heights { grid, entering }
+    }
+}
+
+/// The first level `c` with `h <= c`, exactly (`brackets` ascending;
+/// `approx` their nearest doubles, used only to guess).
+fn first_level_at_or_above(brackets: &[Bracket], approx: &[f64], h: f64) -> usize {
+    // Whether level i lies strictly below h.
+    let below = |i: usize| brackets[i].sign_of(h) == Sign::Positive;
+    let k = brackets.len();
+    if k == 0 {
+        return 0;
+    }
+    let (a, b) = (approx[0], approx[k - 1]);
+    let t = ((h - a) / (b - a) * (k - 1) as f64).ceil();
+    let guess = if t.is_finite() {
+        t.clamp(0.0, k as f64) as usize
+    } else {
+        0
+    };
+    let left_ok = guess == 0 || below(guess - 1);
+    let right_ok = guess == k || !below(guess);
+    let search = |part: &[Bracket]| part.partition_point(|l| l.sign_of(h) == Sign::Positive);
+    match (left_ok, right_ok) {
+        (true, true) => guess,
+        // Level `guess` is below h: the answer lies above it.
+        (true, false) => guess + 1 + search(&brackets[guess + 1..]),
+        // Level `guess - 1` is not below h: the answer lies at or below it.
+        (false, _) => search(&brackets[..guess]),
     }
 }
 
@@ -82,10 +115,12 @@ impl Heights {
 struct Sweep<'h> {
     heights: &'h Heights,
     next: usize,
-    /// The faces touching the current level, ascending.
-    active: Vec<FaceId>,
+    /// The faces touching the current level, ascending by face.
+    active: Vec<Entry>,
     /// Scratch for merging entering faces into `active`.
-    merged: Vec<FaceId>,
+    merged: Vec<Entry>,
+    /// The active faces alone, as the slicer takes them.
+    faces: Vec<FaceId>,
 }
 
 impl<'h> Sweep<'h> {
@@ -95,6 +130,7 @@ impl<'h> Sweep<'h> {
             next: 0,
             active: Vec::new(),
             merged: Vec::new(),
+            faces: Vec::new(),
         }
     }
 
@@ -104,36 +140,38 @@ impl<'h> Sweep<'h> {
     /// in ascending order.
     fn advance(&mut self, index: usize) {
         let h = self.heights;
-        let level = &h.grid[index];
-        let touching = |f: &FaceId| level.sign_of(h.max[f.idx()]) != Sign::Negative;
+        let level = h.grid[index].bracket();
+        let touching = |e: &Entry| level.sign_of(e.top) != Sign::Negative;
         self.active.retain(touching);
-        let mut entering: Vec<FaceId> = h.entering[self.next.min(index + 1)..=index]
+        let mut entering: Vec<Entry> = h.entering[self.next.min(index + 1)..=index]
             .iter()
             .flatten()
             .copied()
             .filter(touching)
             .collect();
         self.next = self.next.max(index + 1);
-        if entering.is_empty() {
-            return;
-        }
-        // Each bucket is ascending; several (a worker skipping levels) are not.
-        entering.sort_unstable();
-        self.merged.clear();
-        self.merged.reserve(self.active.len() + entering.len());
-        let (mut i, mut j) = (0, 0);
-        while i < self.active.len() && j < entering.len() {
-            if self.active[i] < entering[j] {
-                self.merged.push(self.active[i]);
-                i += 1;
-            } else {
-                self.merged.push(entering[j]);
-                j += 1;
+        if !entering.is_empty() {
+            // Each bucket is ascending; several (a worker skipping levels)
+            // are not.
+            entering.sort_unstable_by_key(|e| e.face);
+            self.merged.clear();
+            self.merged.reserve(self.active.len() + entering.len());
+            let (mut i, mut j) = (0, 0);
+            while i < self.active.len() && j < entering.len() {
+                if self.active[i].face < entering[j].face {
+                    self.merged.push(self.active[i]);
+                    i += 1;
+                } else {
+                    self.merged.push(entering[j]);
+                    j += 1;
+                }
             }
+            self.merged.extend_from_slice(&self.active[i..]);
+            self.merged.extend_from_slice(&entering[j..]);
+            std::mem::swap(&mut self.active, &mut self.merged);
         }
-        self.merged.extend_from_slice(&self.active[i..]);
-        self.merged.extend_from_slice(&entering[j..]);
-        std::mem::swap(&mut self.active, &mut self.merged);
+        self.faces.clear();
+        self.faces.extend(self.active.iter().map(|e| e.face));
     }
 
     /// Advances to level `index` (`c` in the mesh's units) and slices it.
@@ -144,7 +182,7 @@ impl<'h> Sweep<'h> {
         c: &Rat,
     ) -> Result<LevelSet, SliceError> {
         self.advance(index);
-        slicer.slice_active(c, &self.heights.grid[index], &self.active)
+        slicer.slice_active(c, &self.heights.grid[index], &self.faces)
     }
 }
 
@@ -213,4 +251,45 @@ where
         drop(receivers);
         outcome
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::exact::rational::rat_from_f64;
+
+    proptest::proptest! {
+        /// The guessed search equals a plain binary search, for evenly
+        /// spaced and irregular levels (some not doubles), at heights on,
+        /// next to and between them.
+        #[test]
+        fn guessed_level_search_is_the_binary_search(
+            steps in proptest::collection::vec(1i64..50, 0..40), even in proptest::bool::ANY,
+            third in proptest::bool::ANY, pick in 0usize..200, nudge in -1i8..=1
+        ) {
+            let mut levels: Vec<Rat> = Vec::new();
+            let mut at = Rat::from_integer((-7).into());
+            for s in &steps {
+                let s = if even { 3 } else { *s };
+                let d = if third { 3 } else { 4 };
+                at += Rat::new(s.into(), d.into());
+                levels.push(at.clone());
+            }
+            let grid: Vec<Level> = levels.iter().cloned().map(Level::new).collect();
+            let brackets: Vec<Bracket> = grid.iter().map(Level::bracket).collect();
+            let approx: Vec<f64> = grid.iter().map(Level::approx).collect();
+            let mut h = approx.get(pick % (approx.len() + 1)).copied().unwrap_or(100.0);
+            h = match nudge {
+                -1 => h.next_down(),
+                1 => h.next_up(),
+                _ => h,
+            };
+            let plain = levels.partition_point(|c| rat_from_f64(h) > *c);
+            proptest::prop_assert_eq!(first_level_at_or_above(&brackets, &approx, h), plain);
+            for h in [-1e300, 1e300, -7.0, f64::MIN_POSITIVE] {
+                let plain = levels.partition_point(|c| rat_from_f64(h) > *c);
+                proptest::prop_assert_eq!(first_level_at_or_above(&brackets, &approx, h), plain);
+            }
+        }
+    }
 }
