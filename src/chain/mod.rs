@@ -45,14 +45,15 @@ pub fn chain_loops(topo: &Topology, segments: &[Segment]) -> Result<Vec<Vec<usiz
     };
     let mut next = vec![usize::MAX; segments.len()];
     // An edge crossing has one segment in and one out: looked up by edge.
-    let mut leaving: HashMap<EdgeId, usize> =
+    let mut leaving: HashMap<EdgeId, u32> =
         HashMap::with_capacity_and_hasher(segments.len(), Default::default());
     let mut ins: Vec<(CutPoint, usize)> = Vec::new();
     let mut outs: Vec<(CutPoint, usize)> = Vec::new();
     for (i, s) in segments.iter().enumerate() {
         match s.from {
             CutPoint::OnEdge(e) => {
-                if leaving.insert(e, i).is_some() {
+                // At most one segment per face: indices stay below TAKEN.
+                if leaving.insert(e, i as u32).is_some() {
                     return Err(unbalanced(s.from));
                 }
             }
@@ -62,12 +63,26 @@ pub fn chain_loops(topo: &Topology, segments: &[Segment]) -> Result<Vec<Vec<usiz
             ins.push((s.to, i));
         }
     }
+    // Each departure is taken once (marked `TAKEN`); a second arrival,
+    // or a departure never arrived at, is unbalanced.
+    const TAKEN: u32 = u32::MAX;
     for (i, s) in segments.iter().enumerate() {
         if let CutPoint::OnEdge(e) = s.to {
-            next[i] = leaving.remove(&e).ok_or_else(|| unbalanced(s.to))?;
+            match leaving.get_mut(&e) {
+                Some(j) if *j != TAKEN => {
+                    next[i] = *j as usize;
+                    *j = TAKEN;
+                }
+                _ => return Err(unbalanced(s.to)),
+            }
         }
     }
-    if let Some(&e) = leaving.keys().min() {
+    if let Some(e) = leaving
+        .iter()
+        .filter(|(_, &j)| j != TAKEN)
+        .map(|(&e, _)| e)
+        .min()
+    {
         return Err(unbalanced(CutPoint::OnEdge(e)));
     }
     // At vertices, arrivals and departures sorted by vertex (then segment
@@ -167,4 +182,50 @@ fn pair_at_vertex(
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ids::{EdgeId, FaceId};
+    use crate::Slicer;
+
+    fn seg(from: u32, to: u32) -> Segment {
+        Segment {
+            from: CutPoint::OnEdge(EdgeId(from)),
+            to: CutPoint::OnEdge(EdgeId(to)),
+            via: Via::Face(FaceId(0)),
+        }
+    }
+
+    #[test]
+    fn edge_crossings_chain_and_unbalanced_ends_are_errors() {
+        let mesh = crate::datasets::by_name("unit_cube").unwrap().build();
+        let slicer = Slicer::new(&mesh).unwrap();
+        let topo = slicer.topology();
+        // 0 -> 1 -> 2 -> 0 and 3 -> 4 -> 3, given out of order.
+        let ok = [seg(1, 2), seg(3, 4), seg(0, 1), seg(4, 3), seg(2, 0)];
+        assert_eq!(
+            chain_loops(topo, &ok).unwrap(),
+            vec![vec![0, 4, 2], vec![1, 3]]
+        );
+        let unbalanced = |segments: &[Segment]| match chain_loops(topo, segments) {
+            Err(ChainError::Unbalanced { at, .. }) => at,
+            other => panic!("expected an unbalanced point, got {other:?}"),
+        };
+        // Edge 2 is arrived at but never left.
+        assert_eq!(
+            unbalanced(&[seg(0, 1), seg(1, 2)]),
+            CutPoint::OnEdge(EdgeId(2))
+        );
+        // Edge 0 is arrived at twice and edge 2 never: the counts balance
+        // but the ends do not.
+        let twice = unbalanced(&[seg(0, 1), seg(1, 0), seg(2, 0)]);
+        assert_eq!(twice, CutPoint::OnEdge(EdgeId(0)));
+        // Edge 5 is left twice.
+        assert_eq!(
+            unbalanced(&[seg(5, 6), seg(5, 7)]),
+            CutPoint::OnEdge(EdgeId(5))
+        );
+    }
 }
