@@ -11,7 +11,7 @@
 //! by a big gcd.
 
 use super::dyadic::Dyadic;
-use super::point::{LoopPoint, Point2};
+use super::point::{gcd_u128, LoopPoint, Point2};
 use super::rational::{decompose, rat_to_f64, Rat};
 use num_bigint::{BigInt, BigUint};
 use num_integer::Integer;
@@ -49,19 +49,38 @@ impl ExactPoint for Point2 {
 }
 
 impl ExactPoint for LoopPoint {
+    /// Over the least common denominator: the integers' common factor and
+    /// the powers of two shared with `2^e` are cancelled in `i128` first,
+    /// so the exact area's products stay as small as the reduced points'.
     fn over_one_denominator(&self) -> (BigInt, BigInt, BigInt) {
-        match self.as_integers() {
-            Some((x, y, w, e)) if e >= 0 => (
-                BigInt::from(x) << e as u32,
-                BigInt::from(y) << e as u32,
-                BigInt::from(w),
-            ),
-            Some((x, y, w, e)) => (
-                BigInt::from(x),
-                BigInt::from(y),
-                BigInt::from(w) << e.unsigned_abs(),
-            ),
-            None => self.exact().over_one_denominator(),
+        let Some((x, y, w, e)) = self.as_integers() else {
+            return self.exact().over_one_denominator();
+        };
+        if x == 0 && y == 0 {
+            return (BigInt::zero(), BigInt::zero(), BigInt::one());
+        }
+        let g = gcd_u128(
+            gcd_u128(x.unsigned_abs(), y.unsigned_abs()),
+            w.unsigned_abs(),
+        ) as i128;
+        let (x, y, w) = (x / g, y / g, w / g);
+        let tz = |v: i128| if v == 0 { 128 } else { v.trailing_zeros() };
+        if e >= 0 {
+            let t = w.trailing_zeros().min(e as u32);
+            let e = e as u32 - t;
+            (
+                BigInt::from(x) << e,
+                BigInt::from(y) << e,
+                BigInt::from(w >> t),
+            )
+        } else {
+            let t = tz(x).min(tz(y)).min(e.unsigned_abs());
+            let k = e.unsigned_abs() - t;
+            (
+                BigInt::from(x >> t),
+                BigInt::from(y >> t),
+                BigInt::from(w) << k,
+            )
         }
     }
 
@@ -302,12 +321,20 @@ mod tests {
             // kinds of points (rationals, and integers over w 2^-e).
             let sum = AreaSum::of([poly.as_slice()]);
             proptest::prop_assert!(AreaSum::denominator_bits_bound([poly.as_slice()]) >= sum.denominator_bits());
-            let held: Vec<LoopPoint> = pts
-                .iter()
-                .map(|&((a, b), (c, d))| LoopPoint::from_integers((a * d).into(), (c * b).into(), (b * d).into(), -3).unwrap())
-                .collect();
-            let sum = AreaSum::of([held.as_slice()]);
-            proptest::prop_assert!(AreaSum::denominator_bits_bound([held.as_slice()]) >= sum.denominator_bits());
+            // Points held as integers (x 2^e / w): the same exact area, for
+            // exponents of both signs and common factors to cancel.
+            for e in [-3, 0, 4] {
+                let held: Vec<LoopPoint> = pts
+                    .iter()
+                    .map(|&((a, b), (c, d))| {
+                        LoopPoint::from_integers((2 * a * d).into(), (2 * c * b).into(), (6 * b * d).into(), e).unwrap()
+                    })
+                    .collect();
+                let sum = AreaSum::of([held.as_slice()]);
+                proptest::prop_assert!(AreaSum::denominator_bits_bound([held.as_slice()]) >= sum.denominator_bits());
+                let exact: Vec<Point2> = held.iter().map(|p| p.exact().into_owned()).collect();
+                proptest::prop_assert_eq!(signed_area(&held), signed_area_reference(&exact));
+            }
         }
     }
 

@@ -96,7 +96,7 @@ fn common_ints<const N: usize>(xs: [f64; N]) -> Option<([i128; N], i32)> {
 
 /// The gcd: Euclid's `u128` steps until both numbers fit in `u64` (`u128`
 /// division is a slow library call), then the binary gcd on `u64`.
-fn gcd_u128(mut a: u128, mut b: u128) -> u128 {
+pub(crate) fn gcd_u128(mut a: u128, mut b: u128) -> u128 {
     let wide = u128::from(u64::MAX);
     while b != 0 && (a > wide || b > wide) {
         (a, b) = (b, a % b);
