@@ -217,10 +217,11 @@ fn crossing_i128(a: [f64; 3], b: [f64; 3], level: &Level) -> Option<Scaled> {
 }
 
 /// An exact point of a loop (S_O, dF, L-, L+), stored compactly: as
-/// integers `(x 2^e / w, y 2^e / w)` when they fit in `i128` (every
-/// vertex and crossing of a mesh whose coordinates span at most 40 bits
-/// of one binary grid per edge, at a level that is a small fraction), else
-/// as reduced rationals. Both forms are exact; equality is by value.
+/// integers `(x 2^e / w, y 2^e / w)` when they fit in `i128` (vertices and
+/// crossings of a mesh on one 62-bit grid, see [`crate::exact::grid`], or
+/// of an edge whose ends span at most 40 bits of one grid, at a level that
+/// is a small fraction), else as reduced rationals. Both forms are exact;
+/// equality is by value.
 /// [`LoopPoint::exact`] gives the reduced rationals, [`LoopPoint::to_f64`]
 /// the nearest doubles.
 #[derive(Clone, Debug)]
