@@ -6,11 +6,10 @@
 //! face in its vertex order, its segment runs from where the walk passes
 //! from + to - to where it passes from - to +. No arithmetic is done here.
 
-use crate::classify::{EdgeClass, InPlaneEdge, Signs};
+use crate::classify::{EdgeClass, InPlaneEdge};
 use crate::exact::Sign;
 use crate::ids::{EdgeId, FaceId, VertexId};
 use crate::mesh::topology::Topology;
-use crate::mesh::Mesh;
 
 /// Where a segment ends: a strictly crossed edge, or a vertex on the plane.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -46,21 +45,17 @@ pub struct Segment {
 /// or the vertex on the plane twice.
 pub type Carrier = [VertexId; 2];
 
-/// The S_O segment of one face not in F, if its signs change strictly.
-pub fn face_segment(mesh: &Mesh, topo: &Topology, signs: &Signs<'_>, f: FaceId) -> Option<Segment> {
-    let tri = mesh.faces[f.idx()];
-    face_segment_of_signs(topo, f, tri, tri.map(|v| signs.of(v))).map(|(s, _)| s)
-}
-
-/// [`face_segment`] from face `f`'s vertices `tri` and their signs `s`,
-/// with the vertices that carry its start (so the start's point can be
-/// computed without looking the edge up again).
-pub fn face_segment_of_signs(
+/// The S_O (or L-, L+) segment of face `f`, from its vertices `tri` and
+/// their (possibly perturbed) signs `s`, if the signs change strictly;
+/// with the vertices that carry its start and its end (so their points
+/// can be computed, and crossings placed, without looking the edges up
+/// again).
+pub fn face_segment(
     topo: &Topology,
     f: FaceId,
     tri: [VertexId; 3],
     s: [Sign; 3],
-) -> Option<(Segment, Carrier)> {
+) -> Option<(Segment, [Carrier; 2])> {
     let has = |x: Sign| s.contains(&x);
     if !(has(Sign::Positive) && has(Sign::Negative)) {
         return None;
@@ -79,7 +74,7 @@ pub fn face_segment_of_signs(
             for i in 0..3 {
                 match (s[i], s[(i + 1) % 3]) {
                     (Sign::Positive, Sign::Negative) => start = Some(crossing(i)),
-                    (Sign::Negative, Sign::Positive) => end = Some(crossing(i).0),
+                    (Sign::Negative, Sign::Positive) => end = Some(crossing(i)),
                     _ => {}
                 }
             }
@@ -91,19 +86,19 @@ pub fn face_segment_of_signs(
             let i = (k + 1) % 3;
             let zero = (CutPoint::AtVertex(tri[k]), [tri[k]; 2]);
             if s[i] == Sign::Positive {
-                (crossing(i), zero.0)
+                (crossing(i), zero)
             } else {
-                (zero, crossing(i).0)
+                (zero, crossing(i))
             }
         }
     };
     Some((
         Segment {
             from: start.0,
-            to: end,
+            to: end.0,
             via: Via::Face(f),
         },
-        start.1,
+        [start.1, end.1],
     ))
 }
 

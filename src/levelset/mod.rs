@@ -25,11 +25,9 @@ use crate::mesh::topology::Topology;
 use crate::mesh::validate::{validate, Report};
 use crate::mesh::Mesh;
 use crate::nest::{nest_filtered, Reversals, Role};
-use crate::segment::{
-    edge_segments, face_segment, face_segment_of_signs, Carrier, CutPoint, Segment, Via,
-};
+use crate::segment::{edge_segments, face_segment, Carrier, CutPoint, Segment, Via};
 use num_traits::One;
-use rustc_hash::FxHashMap as HashMap;
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 use std::sync::Arc;
 
 /// A closed, oriented loop with exact points.
@@ -386,9 +384,9 @@ impl<'a> LevelBuilder<'a> {
                     }
                 }
             }
-            if let Some((seg, carrier)) = face_segment_of_signs(topo, f, tri, s) {
+            if let Some((seg, [start, _])) = face_segment(topo, f, tri, s) {
                 segments.push(seg);
-                carriers.push(carrier);
+                carriers.push(start);
             }
         }
         let mut region_of = HashMap::default();
@@ -509,41 +507,52 @@ impl<'a> LevelBuilder<'a> {
     /// of section 5 and nested. Loops of zero exact area are dropped.
     fn one_sided(&self, side: Side) -> Result<Vec<Loop>, SliceError> {
         let perturbed = self.signs.perturbed(side);
-        let place = |c: CutPoint| match c {
-            CutPoint::OnEdge(e) => {
-                let [a, b] = self.topo.edge(e).v;
-                if self.signs.is_zero(a) {
-                    CutPoint::AtVertex(a)
-                } else if self.signs.is_zero(b) {
-                    CutPoint::AtVertex(b)
-                } else {
-                    c
-                }
-            }
-            c => c,
+        // A crossing on an edge with an end on the plane sits at that end.
+        let place = |c: CutPoint, [a, b]: Carrier| match c {
+            CutPoint::OnEdge(_) if self.signs.is_zero(a) => (CutPoint::AtVertex(a), [a; 2]),
+            CutPoint::OnEdge(_) if self.signs.is_zero(b) => (CutPoint::AtVertex(b), [b; 2]),
+            c => (c, [a, b]),
         };
-        let placed: Vec<Segment> = self
-            .active
+        let mut placed: Vec<Segment> = Vec::new();
+        let mut carriers: Vec<Carrier> = Vec::new();
+        for &f in self.active {
+            let tri = self.mesh.faces[f.idx()];
+            let s = tri.map(|v| perturbed.of(v));
+            let Some((seg, [start, end])) = face_segment(self.topo, f, tri, s) else {
+                continue;
+            };
+            let (from, start) = place(seg.from, start);
+            let (to, _) = place(seg.to, end);
+            if from != to {
+                placed.push(Segment {
+                    from,
+                    to,
+                    via: seg.via,
+                });
+                carriers.push(start);
+            }
+        }
+        // Only a segment between two vertices can have a reverse: a
+        // crossing strictly inside an edge is an end of the two segments
+        // of that edge's faces, which share no other element there.
+        let between_vertices = |s: &Segment| {
+            matches!(
+                (s.from, s.to),
+                (CutPoint::AtVertex(_), CutPoint::AtVertex(_))
+            )
+        };
+        let index: HashSet<(CutPoint, CutPoint)> = placed
             .iter()
-            .filter_map(|&f| face_segment(self.mesh, self.topo, &perturbed, f))
-            .map(|s| Segment {
-                from: place(s.from),
-                to: place(s.to),
-                via: s.via,
-            })
-            .filter(|s| s.from != s.to)
+            .filter(|s| between_vertices(s))
+            .map(|s| (s.from, s.to))
             .collect();
-        let index: HashMap<(CutPoint, CutPoint), usize> = placed
+        let (kept, kept_carriers): (Vec<Segment>, Vec<Carrier>) = placed
             .iter()
-            .enumerate()
-            .map(|(i, s)| ((s.from, s.to), i))
-            .collect();
-        let kept: Vec<Segment> = placed
-            .iter()
-            .filter(|s| !index.contains_key(&(s.to, s.from)))
-            .copied()
-            .collect();
-        self.loops_with(&kept, None, Family::OneSided)
+            .zip(&carriers)
+            .filter(|(s, _)| !(between_vertices(s) && index.contains(&(s.to, s.from))))
+            .map(|(s, c)| (*s, *c))
+            .unzip();
+        self.loops_with(&kept, Some(&kept_carriers), Family::OneSided)
     }
 
     fn loops(&self, segments: &[Segment]) -> Result<Vec<Loop>, SliceError> {
