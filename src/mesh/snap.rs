@@ -76,7 +76,8 @@ pub fn snap(mesh: &Mesh, q: &Rat) -> Result<Snapped, SnapError> {
     }
     let mut positions: Vec<[f64; 3]> = Vec::with_capacity(mesh.num_vertices());
     let mut remap: Vec<VertexId> = Vec::with_capacity(mesh.num_vertices());
-    let mut seen: HashMap<[u64; 3], VertexId> = HashMap::with_capacity(mesh.num_vertices());
+    let mut seen: HashMap<[u64; 3], VertexId, ahash::RandomState> =
+        HashMap::with_capacity_and_hasher(mesh.num_vertices(), ahash::RandomState::new());
     let mut moved = 0;
     let mut max_move = Rat::zero();
     for (v, p) in mesh.positions.iter().enumerate() {

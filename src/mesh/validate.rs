@@ -382,7 +382,8 @@ fn bounding_box(mesh: &Mesh) -> Option<[[f64; 3]; 2]> {
 
 /// Faces with the same three vertices as an earlier face, in face order.
 fn duplicate_faces(mesh: &Mesh) -> Vec<Defect> {
-    let mut seen: HashMap<[VertexId; 3], FaceId> = HashMap::with_capacity(mesh.num_faces());
+    let mut seen: HashMap<[VertexId; 3], FaceId, ahash::RandomState> =
+        HashMap::with_capacity_and_hasher(mesh.num_faces(), ahash::RandomState::new());
     let mut found = Vec::new();
     for (f, tri) in mesh.faces.iter().enumerate() {
         let mut key = *tri;

@@ -6,7 +6,8 @@
 //! and a NaN equals nothing, so every corner with a NaN coordinate becomes a
 //! vertex of its own (validation reports non-finite coordinates later). No
 //! distance tolerance is ever used. Vertex ids are given in first-seen order,
-//! so the result is deterministic. Linear time (one hash lookup per corner).
+//! so the result is deterministic. Linear time (one hash lookup per corner,
+//! with a randomly keyed hash so that no file can be crafted to collide).
 
 use std::collections::HashMap;
 
@@ -75,7 +76,8 @@ pub fn try_weld_exact(triangles: &[[[f64; 3]; 3]]) -> Result<Welded, WeldError> 
         });
     }
     let corners = triangles.len().saturating_mul(3);
-    let mut index: HashMap<[u64; 3], u32> = HashMap::with_capacity(triangles.len());
+    let mut index: HashMap<[u64; 3], u32, ahash::RandomState> =
+        HashMap::with_capacity_and_hasher(triangles.len(), ahash::RandomState::new());
     let mut positions: Vec<[f64; 3]> = Vec::with_capacity(triangles.len());
     let mut faces: Vec<[VertexId; 3]> = Vec::with_capacity(triangles.len());
 
