@@ -1,13 +1,17 @@
-//! Input: exact points. Output: the exact sign of orient2d, fast.
+//! Input: exact points. Output: exact signs (loop orientation, orient2d,
+//! y-order), fast.
 //!
-//! A floating-point filter: every exact value is enclosed in an interval of
-//! doubles (for a point held as integers `x 2^e / w`: the quotient of the
-//! two rounded integers, widened by 8 ulps of relative error against at
-//! most 4; otherwise the nearest double, widened by one ulp), and every
-//! operation widens its rounded result outward by one ulp, so the computed
-//! interval always contains the exact determinant. When it excludes zero,
-//! its sign is the exact sign; otherwise the exact rational determinant
-//! decides. Property-tested against the plain rational predicate.
+//! Each exact coordinate is approximated once by a double within `2^-50`
+//! of it relatively (for a point held as integers `x 2^e / w`: the two
+//! integers converted and divided; otherwise the nearest double). A
+//! loop's orientation is the shoelace on those approximations with an
+//! a-priori error bound ([`signed_area_filtered`]). For orient2d and the
+//! y-order each approximation gives an interval of doubles (`2^-50` of it
+//! each way, widened by one ulp), and every operation widens its rounded
+//! result outward by one ulp, so the computed interval always contains the
+//! exact value. When a bound or an interval excludes zero, its sign is the
+//! exact sign; otherwise exact rational arithmetic decides.
+//! Property-tested against the plain rational predicates.
 
 use super::point::LoopPoint;
 use super::predicates::{orient2d_rat, Sign};
@@ -187,19 +191,9 @@ impl<'a> FilteredPoint<'a> {
         self.iy = Interval::around(self.y);
     }
 
-    #[inline]
-    fn x(&self) -> Interval {
-        self.ix
-    }
-
-    #[inline]
-    fn y(&self) -> Interval {
-        self.iy
-    }
-
     /// Doubles enclosing the exact point: `([x_lo, y_lo], [x_hi, y_hi])`.
     pub fn bounds(&self) -> ([f64; 2], [f64; 2]) {
-        let (x, y) = (self.x(), self.y());
+        let (x, y) = (self.ix, self.iy);
         ([x.lo, y.lo], [x.hi, y.hi])
     }
 
@@ -213,7 +207,7 @@ impl<'a> FilteredPoint<'a> {
     /// Whether the enclosures prove the two points distinct.
     pub fn disjoint(&self, other: &FilteredPoint<'_>) -> bool {
         let apart = |a: Interval, b: Interval| a.hi < b.lo || b.hi < a.lo;
-        apart(self.x(), other.x()) || apart(self.y(), other.y())
+        apart(self.ix, other.ix) || apart(self.iy, other.iy)
     }
 
     /// The exact point.
@@ -224,7 +218,7 @@ impl<'a> FilteredPoint<'a> {
 
 /// Exact comparison of the y coordinates of two points (filtered).
 pub fn cmp_y(a: &FilteredPoint<'_>, b: &FilteredPoint<'_>) -> std::cmp::Ordering {
-    let (ay, by) = (a.y(), b.y());
+    let (ay, by) = (a.iy, b.iy);
     if ay.hi < by.lo {
         std::cmp::Ordering::Less
     } else if ay.lo > by.hi {
@@ -241,11 +235,10 @@ pub fn orient2d_filtered(
     b: &FilteredPoint<'_>,
     c: &FilteredPoint<'_>,
 ) -> Sign {
-    let det = b
-        .x()
-        .sub(a.x())
-        .mul(c.y().sub(a.y()))
-        .sub(b.y().sub(a.y()).mul(c.x().sub(a.x())));
+    let det =
+        b.ix.sub(a.ix)
+            .mul(c.iy.sub(a.iy))
+            .sub(b.iy.sub(a.iy).mul(c.ix.sub(a.ix)));
     det.sign()
         .unwrap_or_else(|| orient2d_rat(&a.exact.exact(), &b.exact.exact(), &c.exact.exact()))
 }
@@ -321,7 +314,7 @@ fn signed_area_intervals(points: &[FilteredPoint<'_>]) -> AreaEstimate {
     let mut twice = Interval { lo: 0.0, hi: 0.0 };
     for i in 0..n {
         let (p, q) = (&points[i], &points[(i + 1) % n]);
-        twice = twice.add(p.x().mul(q.y()).sub(q.x().mul(p.y())));
+        twice = twice.add(p.ix.mul(q.iy).sub(q.ix.mul(p.iy)));
     }
     // Halving is exact (barring underflow, which the widening covers).
     let (lo, hi) = ((twice.lo / 2.0).next_down(), (twice.hi / 2.0).next_up());

@@ -40,10 +40,10 @@ pub struct Loop {
     pub points: Vec<LoopPoint>,
     /// The exact sign of the signed area: positive when counter-clockwise.
     pub orientation: Sign,
-    /// The signed area, rounded: the midpoint of a certified interval
-    /// enclosure (of the exact sign), or the nearest double of the exact
-    /// area when the enclosure could not decide the sign. The exact area
-    /// is [`Loop::area`].
+    /// The signed area, rounded: a double within a certified error bound
+    /// of the exact area and of its sign ([`signed_area_filtered`]), or the
+    /// nearest double of the exact area when the bound could not decide
+    /// the sign. The exact area is [`Loop::area`].
     pub area_approx: f64,
     /// Outer or hole, from the nesting depth in its family.
     pub role: Role,
