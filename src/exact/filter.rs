@@ -282,6 +282,9 @@ fn signed_area_static(points: &[FilteredPoint<'_>]) -> Option<AreaEstimate> {
     const HI: f64 = f64::from_bits((1023 + 480) << 52);
     let n = points.len();
     let in_range = |v: f64| v == 0.0 || (LO..=HI).contains(&v.abs());
+    // u = EPSILON / 2 is the unit roundoff: `bound` is a proven bound on
+    // the rounding error, not a tolerance; when it cannot decide the sign,
+    // the caller decides it exactly.
     let g = (2 * n + 4) as f64 * (f64::EPSILON / 2.0);
     if g >= 0.01 || !points.iter().all(|p| in_range(p.x) && in_range(p.y)) {
         return None;
