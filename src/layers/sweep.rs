@@ -3,12 +3,14 @@
 //!
 //! The sweep (after Minetto, Volpato, Stolfi et al., "An optimal algorithm
 //! for 3D triangle mesh slicing", CAD 2017): each face is filed under the
-//! first level at or above its lowest height (binary search, no sort of
-//! the faces), enters the active set at that level and leaves when the
-//! plane passes its highest one, so each level visits only the faces that
-//! touch it; faces that touch no level are dropped when filed. Level `i` is computed by worker `i mod T`, each worker sweeping
-//! its own levels upward and sending results through a bounded channel;
-//! the caller's thread takes them in order. Memory is bounded by the
+//! first level at or above its lowest height (an interpolated guess
+//! confirmed exactly, else binary search; no sort of the faces), enters
+//! the active set at that level and leaves when the plane passes its
+//! highest one, so each level visits only the faces that touch it; faces
+//! that touch no level are dropped when filed. Level `i` is computed by
+//! worker `i mod T`, each worker sweeping its own levels upward and
+//! sending results through a bounded channel; the caller's thread takes
+//! them in order. Memory is bounded by the
 //! channels, not by the number of levels, and every level is computed from
 //! the same sorted active faces, so the output does not depend on `T`.
 
