@@ -9,7 +9,7 @@
 //! so the result is deterministic. Linear time (one hash lookup per corner,
 //! with a randomly keyed hash so that no file can be crafted to collide).
 
-use std::collections::HashMap;
+use hashbrown::HashTable;
 
 use super::Mesh;
 use crate::ids::VertexId;
@@ -69,48 +69,70 @@ pub fn weld_exact(triangles: &[[[f64; 3]; 3]]) -> Welded {
 /// Welds a triangle soup by exact coordinate equality, failing (instead of
 /// panicking) when the ids would not fit in `u32`.
 pub fn try_weld_exact(triangles: &[[[f64; 3]; 3]]) -> Result<Welded, WeldError> {
-    if triangles.len() > MAX_ELEMENTS {
+    weld_triangles(triangles.len(), |t| triangles[t])
+}
+
+/// Welds the `n` triangles whose corners `corners(t)` gives (`t < n`), by
+/// exact coordinate equality, without a soup in memory: the binary STL
+/// reader passes a view of the file's records.
+///
+/// The table holds vertex ids only (four bytes a slot); a lookup compares
+/// the corner with the kept vertex's coordinates, so the hot data is the
+/// table and the vertices seen so far, not one key copy per vertex.
+pub fn weld_triangles(
+    n: usize,
+    corners: impl Fn(usize) -> [[f64; 3]; 3],
+) -> Result<Welded, WeldError> {
+    if n > MAX_ELEMENTS {
         return Err(WeldError::TooManyElements {
             what: "triangles",
             limit: MAX_ELEMENTS,
         });
     }
-    let corners = triangles.len().saturating_mul(3);
-    let mut index: HashMap<[u64; 3], u32, ahash::RandomState> =
-        HashMap::with_capacity_and_hasher(triangles.len(), ahash::RandomState::new());
-    let mut positions: Vec<[f64; 3]> = Vec::with_capacity(triangles.len());
-    let mut faces: Vec<[VertexId; 3]> = Vec::with_capacity(triangles.len());
-
-    for tri in triangles {
+    let hasher = ahash::RandomState::new();
+    // A closed mesh has about half as many vertices as faces.
+    let mut index: HashTable<u32> = HashTable::with_capacity(n / 2 + 4);
+    let mut positions: Vec<[f64; 3]> = Vec::with_capacity(n / 2 + 4);
+    let mut faces: Vec<[VertexId; 3]> = Vec::with_capacity(n);
+    let too_many = WeldError::TooManyElements {
+        what: "vertices",
+        limit: MAX_ELEMENTS,
+    };
+    for t in 0..n {
         let mut face = [VertexId(0); 3];
-        for (slot, p) in face.iter_mut().zip(tri.iter()) {
-            let key = corner_key(p);
-            if let Some(&id) = key.as_ref().and_then(|k| index.get(k)) {
-                *slot = VertexId(id);
-                continue;
+        for (slot, p) in face.iter_mut().zip(corners(t)) {
+            let key = corner_key(&p);
+            let hash = key.map(|k| hasher.hash_one(k));
+            if let (Some(k), Some(h)) = (key, hash) {
+                if let Some(&id) = index.find(h, |&id| kept_key(&positions, id) == k) {
+                    *slot = VertexId(id);
+                    continue;
+                }
             }
             let id = u32::try_from(positions.len())
                 .ok()
                 .filter(|&id| (id as usize) < MAX_ELEMENTS)
-                .ok_or(WeldError::TooManyElements {
-                    what: "vertices",
-                    limit: MAX_ELEMENTS,
-                })?;
-            if let Some(k) = key {
-                index.insert(k, id);
+                .ok_or(too_many)?;
+            positions.push(p);
+            if let Some(h) = hash {
+                index.insert_unique(h, id, |&id| hasher.hash_one(kept_key(&positions, id)));
             }
-            positions.push(*p);
             *slot = VertexId(id);
         }
         faces.push(face);
     }
-
     let vertices = positions.len();
     Ok(Welded {
         mesh: Mesh { positions, faces },
-        corners,
+        corners: n * 3,
         vertices,
     })
+}
+
+/// The key of a kept vertex (never NaN: NaN corners are not in the table).
+#[inline]
+fn kept_key(positions: &[[f64; 3]], id: u32) -> [u64; 3] {
+    positions[id as usize].map(coordinate_key)
 }
 
 /// The key of a corner, or `None` when a coordinate is NaN (never merged).
@@ -166,5 +188,50 @@ mod tests {
             ]
         );
         assert_eq!(w.mesh.faces[1], [VertexId(2), VertexId(1), VertexId(3)]);
+    }
+
+    /// A reference weld: a linear search over the vertices kept so far.
+    fn weld_by_search(soup: &[[[f64; 3]; 3]]) -> (Vec<[f64; 3]>, Vec<[VertexId; 3]>) {
+        let mut positions: Vec<[f64; 3]> = Vec::new();
+        let faces = soup
+            .iter()
+            .map(|tri| {
+                tri.map(|p| {
+                    let same = |q: &[f64; 3]| (0..3).all(|k| p[k] == q[k]);
+                    let found = positions.iter().position(same);
+                    VertexId::from_idx(found.unwrap_or_else(|| {
+                        positions.push(p);
+                        positions.len() - 1
+                    }))
+                })
+            })
+            .collect();
+        (positions, faces)
+    }
+
+    proptest::proptest! {
+        /// Coordinates from a small set (with both zeros and NaN), so that
+        /// corners repeat often: the table agrees with the linear search,
+        /// bit for bit, including which of `-0.0` and `0.0` is kept.
+        #[test]
+        fn table_agrees_with_linear_search(
+            picks in proptest::collection::vec(0usize..6, 0..300)
+        ) {
+            let values = [0.0, -0.0, 1.0, 0.1f32 as f64, f64::NAN, -3.5];
+            let soup: Vec<[[f64; 3]; 3]> = picks
+                .chunks_exact(9)
+                .map(|c| {
+                    let p = |k: usize| [values[c[k]], values[c[k + 1]], values[c[k + 2]]];
+                    [p(0), p(3), p(6)]
+                })
+                .collect();
+            let w = weld_exact(&soup);
+            let (positions, faces) = weld_by_search(&soup);
+            proptest::prop_assert_eq!(&w.mesh.faces, &faces);
+            let bits = |v: &[[f64; 3]]| -> Vec<[u64; 3]> {
+                v.iter().map(|p| p.map(f64::to_bits)).collect()
+            };
+            proptest::prop_assert_eq!(bits(&w.mesh.positions), bits(&positions));
+        }
     }
 }

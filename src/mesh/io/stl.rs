@@ -14,7 +14,7 @@ use std::io::Write;
 
 use super::text::{self, is_space, parse_f64, show};
 use super::{corners, write_err, LoadError, LoadNote, LoadReport, MeshFormat, SaveError};
-use crate::mesh::weld::{try_weld_exact, WeldError};
+use crate::mesh::weld::{try_weld_exact, weld_triangles, WeldError, Welded};
 use crate::mesh::Mesh;
 
 const HEADER: usize = 80;
@@ -123,37 +123,40 @@ fn read_binary(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
     if bytes.len() >= 5 && bytes[..5].eq_ignore_ascii_case(b"solid") {
         notes.push(LoadNote::BinaryStlHeaderSaysSolid);
     }
-    // `need <= len`, checked above, so the count fits in memory terms.
-    let data = &bytes[84..];
-    let mut soup: Vec<[[f64; 3]; 3]> = Vec::with_capacity(n as usize);
+    // `need <= len`, checked above: the records are there, and welding reads
+    // them in place (no soup of n triangles is allocated).
+    let records = &bytes[84..need as usize];
     let f =
         |r: &[u8], o: usize| f64::from(f32::from_le_bytes([r[o], r[o + 1], r[o + 2], r[o + 3]]));
-    for r in data.chunks_exact(RECORD as usize).take(n as usize) {
-        // Bytes 0..12 are the normal (ignored), 48..50 the attribute count.
-        soup.push([
-            [f(r, 12), f(r, 16), f(r, 20)],
-            [f(r, 24), f(r, 28), f(r, 32)],
-            [f(r, 36), f(r, 40), f(r, 44)],
-        ]);
-    }
+    // Bytes 0..12 of a record are the normal (ignored), 48..50 the
+    // attribute count.
+    let corner = |r: &[u8], o: usize| [f(r, o), f(r, o + 4), f(r, o + 8)];
+    let welded = weld_triangles(n as usize, |t| {
+        let r = &records[t * RECORD as usize..(t + 1) * RECORD as usize];
+        [corner(r, 12), corner(r, 24), corner(r, 36)]
+    })
+    .map_err(|e| weld_error(e, format))?;
     if need < len {
         notes.push(LoadNote::TrailingBytes { bytes: len - need });
     }
-    finish(soup, format, notes)
+    Ok(report(welded, format, notes))
 }
 
 fn finish(
     soup: Vec<[[f64; 3]; 3]>,
     format: MeshFormat,
-    mut notes: Vec<LoadNote>,
+    notes: Vec<LoadNote>,
 ) -> Result<(Mesh, LoadReport), LoadError> {
     let welded = try_weld_exact(&soup).map_err(|e| weld_error(e, format))?;
-    drop(soup);
+    Ok(report(welded, format, notes))
+}
+
+fn report(welded: Welded, format: MeshFormat, mut notes: Vec<LoadNote>) -> (Mesh, LoadReport) {
     notes.push(LoadNote::Welded {
         corners: welded.corners,
         vertices: welded.vertices,
     });
-    Ok((welded.mesh, LoadReport { format, notes }))
+    (welded.mesh, LoadReport { format, notes })
 }
 
 /// Tokens of an ASCII file with their 1-based line numbers.
