@@ -23,6 +23,11 @@ impl Dyadic {
         self.add(&x.m.abs(), x.e);
     }
 
+    /// Adds `x` exactly.
+    pub fn add_dyadic(&mut self, x: &Dyadic) {
+        self.add(&x.m, x.e);
+    }
+
     /// Adds `m * 2^e` exactly.
     pub fn add(&mut self, m: &BigInt, e: i32) {
         if m.is_zero() {

@@ -11,6 +11,7 @@ use super::rational::{decompose, Rat};
 use crate::mesh::Mesh;
 use num_bigint::BigInt;
 use num_traits::Zero;
+use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
 /// The smallest exponent `e0` such that every coordinate is an integer
@@ -50,9 +51,10 @@ pub fn signed_volume(mesh: &Mesh) -> Rat {
                 None => 0,
             }
         };
+        // Every partial sum is bounded as the whole one is: any order fits.
         let acc: i128 = mesh
             .faces
-            .iter()
+            .par_iter()
             .filter_map(corners)
             .map(|t| {
                 let [a, b, c] = t.map(|p| p.map(to_i));
@@ -65,55 +67,98 @@ pub fn signed_volume(mesh: &Mesh) -> Rat {
     // Otherwise each face on its own grid (f32 meshes spread over many
     // binary exponents, but one face rarely does), its determinant summed
     // in i128 per exponent; a face or sum that does not fit goes to BigInt.
-    let mut buckets: FxHashMap<i32, i128> = FxHashMap::default();
-    let mut wide = Dyadic::default();
-    for t in mesh.faces.iter().filter_map(corners) {
-        let parts = t.map(|p| p.map(decompose));
-        let e = parts
-            .iter()
-            .flatten()
-            .flatten()
-            .map(|&(_, e)| e)
-            .min()
-            .unwrap_or(0);
-        let small = |p: Option<(i64, i32)>| -> Option<i128> {
-            let Some((m, pe)) = p else { return Some(0) };
-            let k = i128::from(m) << u32::try_from(pe - e).ok().filter(|&s| s < 64)?;
-            (k.unsigned_abs() < 1 << 40).then_some(k)
-        };
-        let ints: Option<Vec<[i128; 3]>> = parts
-            .iter()
-            .map(|p| Some([small(p[0])?, small(p[1])?, small(p[2])?]))
-            .collect();
-        match ints {
-            // Products below 2^120, the determinant below 2^123.
-            Some(k) => {
-                let det = det3_i128(k[0], k[1], k[2]);
-                let slot = buckets.entry(3 * e).or_insert(0);
-                match slot.checked_add(det) {
-                    Some(v) => *slot = v,
-                    None => {
-                        wide.add(&BigInt::from(*slot), 3 * e);
-                        *slot = det;
-                    }
-                }
+    // Faces in parallel; exact sums do not depend on the order.
+    let sum = mesh
+        .faces
+        .par_chunks(1 << 12)
+        .map(|chunk| {
+            let mut sum = FaceSum::default();
+            for t in chunk.iter().filter_map(corners) {
+                sum.add_face(t);
             }
-            None => {
-                let big = |p: Option<(i64, i32)>| {
-                    p.map_or_else(BigInt::zero, |(m, pe)| BigInt::from(m) << (pe - e) as u32)
-                };
-                let [a, b, c] = parts.map(|p| p.map(big));
-                let det = &a[0] * (&b[1] * &c[2] - &b[2] * &c[1])
-                    - &a[1] * (&b[0] * &c[2] - &b[2] * &c[0])
-                    + &a[2] * (&b[0] * &c[1] - &b[1] * &c[0]);
-                wide.add(&det, 3 * e);
-            }
-        }
-    }
-    for (e, v) in buckets {
+            sum
+        })
+        .reduce(FaceSum::default, FaceSum::merge);
+    let mut wide = sum.wide;
+    for (e, v) in sum.buckets {
         wide.add(&BigInt::from(v), e);
     }
     wide.to_rat_times_pow2(0) / Rat::from_integer(6.into())
+}
+
+/// A partial sum of face determinants: `i128` buckets per exponent, and
+/// what did not fit.
+#[derive(Default)]
+struct FaceSum {
+    buckets: FxHashMap<i32, i128>,
+    wide: Dyadic,
+}
+
+impl FaceSum {
+    /// Adds `det * 2^e`.
+    fn add(&mut self, det: i128, e: i32) {
+        let slot = self.buckets.entry(e).or_insert(0);
+        match slot.checked_add(det) {
+            Some(v) => *slot = v,
+            None => {
+                self.wide.add(&BigInt::from(*slot), e);
+                *slot = det;
+            }
+        }
+    }
+
+    fn merge(mut self, other: FaceSum) -> FaceSum {
+        for (e, v) in other.buckets {
+            self.add(v, e);
+        }
+        self.wide.add_dyadic(&other.wide);
+        self
+    }
+
+    /// Adds the determinant of one face, on the face's own grid: the
+    /// smallest exponent of its nine coordinates.
+    fn add_face(&mut self, t: [[f64; 3]; 3]) {
+        // Zero coordinates: mantissa 0, no exponent.
+        let mut m = [0i64; 9];
+        let mut ex = [i32::MAX; 9];
+        for (i, &x) in t.iter().flatten().enumerate() {
+            if let Some((mi, ei)) = decompose(x) {
+                (m[i], ex[i]) = (mi, ei);
+            }
+        }
+        let e = ex.iter().copied().min().filter(|&e| e != i32::MAX);
+        let Some(e) = e else { return };
+        let mut k = [0i128; 9];
+        let mut fits = true;
+        for i in 0..9 {
+            if m[i] == 0 {
+                continue;
+            }
+            let shift = (ex[i] - e) as u32;
+            // Below 2^40 each: products below 2^120, the determinant below 2^123.
+            if shift >= 40 || (i128::from(m[i]) << shift).unsigned_abs() >= 1 << 40 {
+                fits = false;
+                break;
+            }
+            k[i] = i128::from(m[i]) << shift;
+        }
+        if fits {
+            let row = |r: usize| [k[3 * r], k[3 * r + 1], k[3 * r + 2]];
+            self.add(det3_i128(row(0), row(1), row(2)), 3 * e);
+            return;
+        }
+        let big = |i: usize| {
+            if m[i] == 0 {
+                BigInt::zero()
+            } else {
+                BigInt::from(m[i]) << (ex[i] - e) as u32
+            }
+        };
+        let [a, b, c] = [0, 1, 2].map(|r| [big(3 * r), big(3 * r + 1), big(3 * r + 2)]);
+        let det = &a[0] * (&b[1] * &c[2] - &b[2] * &c[1]) - &a[1] * (&b[0] * &c[2] - &b[2] * &c[0])
+            + &a[2] * (&b[0] * &c[1] - &b[1] * &c[0]);
+        self.wide.add(&det, 3 * e);
+    }
 }
 
 fn det3_i128(a: [i128; 3], b: [i128; 3], c: [i128; 3]) -> i128 {

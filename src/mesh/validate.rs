@@ -13,9 +13,10 @@ use crate::exact::predicates::{is_degenerate_triangle, orient2d_axes, orient3d, 
 use crate::exact::rational::{rat_to_string, Rat};
 use crate::exact::volume::signed_volume;
 use crate::ids::{FaceId, VertexId};
-use crate::mesh::topology::{Topology, TopologyIssue};
+use crate::mesh::topology::{Topology, TopologyIssue, NO_FACE};
 use crate::mesh::Mesh;
 use num_traits::Signed;
+use rayon::prelude::*;
 use std::collections::HashMap;
 use std::fmt;
 
@@ -296,15 +297,11 @@ pub fn validate(mesh: &Mesh) -> Report {
         };
     }
 
-    // Three independent passes, on the caller's rayon pool (one thread:
-    // one after the other); defects are reported in the same order either
-    // way.
-    let (volume, (duplicates, (topo, issues))) = rayon::join(
-        || signed_volume(mesh),
-        || rayon::join(|| duplicate_faces(mesh), || Topology::build(mesh)),
-    );
+    // Independent passes, on the caller's rayon pool (one thread: one
+    // after the other); defects are reported in the same order either way.
+    let (volume, (topo, issues)) = rayon::join(|| signed_volume(mesh), || Topology::build(mesh));
     stats.volume = rat_to_string(&volume);
-    for d in duplicates {
+    for d in duplicate_faces(mesh, &topo, &issues) {
         sink.push(d);
     }
     let closed_manifold = issues.is_empty();
@@ -381,14 +378,41 @@ fn bounding_box(mesh: &Mesh) -> Option<[[f64; 3]; 2]> {
 }
 
 /// Faces with the same three vertices as an earlier face, in face order.
-fn duplicate_faces(mesh: &Mesh) -> Vec<Defect> {
+///
+/// Only faces the topology flags are looked at. Two faces on the same
+/// three vertices share each of their edges; such an edge is either used
+/// twice in one direction (a bad edge, whose issue lists both faces) or has
+/// exactly these two faces, with the same opposite vertex.
+fn duplicate_faces(mesh: &Mesh, topo: &Topology, issues: &[TopologyIssue]) -> Vec<Defect> {
+    let mut candidates: Vec<FaceId> = topo
+        .edges
+        .par_iter()
+        .filter(|e| e.opposite[0] == e.opposite[1])
+        .flat_map_iter(|e| e.faces)
+        .collect();
+    for issue in issues {
+        if let TopologyIssue::BadEdge {
+            forward, backward, ..
+        } = issue
+        {
+            candidates.extend(forward.iter().chain(backward));
+        }
+    }
+    candidates.retain(|&f| f != NO_FACE);
+    candidates.sort_unstable();
+    candidates.dedup();
+    duplicates_among(mesh, &candidates)
+}
+
+/// Faces of `faces` (ascending) with the same three vertices as an earlier
+/// one of them.
+fn duplicates_among(mesh: &Mesh, faces: &[FaceId]) -> Vec<Defect> {
     let mut seen: HashMap<[VertexId; 3], FaceId, ahash::RandomState> =
-        HashMap::with_capacity_and_hasher(mesh.num_faces(), ahash::RandomState::new());
+        HashMap::with_capacity_and_hasher(faces.len(), ahash::RandomState::new());
     let mut found = Vec::new();
-    for (f, tri) in mesh.faces.iter().enumerate() {
-        let mut key = *tri;
+    for &face in faces {
+        let mut key = mesh.faces[face.idx()];
         key.sort_unstable();
-        let face = FaceId::from_idx(f);
         match seen.entry(key) {
             std::collections::hash_map::Entry::Occupied(e) => found.push(Defect::DuplicateFace {
                 face,
@@ -463,6 +487,7 @@ fn report_topology_issues(mesh: &Mesh, issues: Vec<TopologyIssue>, sink: &mut Si
 /// Faces of zero area, in face order.
 fn zero_area_faces(mesh: &Mesh) -> Vec<Defect> {
     (0..mesh.num_faces())
+        .into_par_iter()
         .filter(|&f| {
             let [a, b, c] = mesh.faces[f].map(|v| mesh.pos(v));
             is_degenerate_triangle(a, b, c)
@@ -478,34 +503,34 @@ fn zero_area_faces(mesh: &Mesh) -> Vec<Defect> {
 /// same side of the edge within that plane (exact orient2d in a projection
 /// where the first face is not degenerate).
 fn folds(mesh: &Mesh, topo: &Topology) -> Vec<Defect> {
-    let mut found = Vec::new();
-    for e in &topo.edges {
-        let a = mesh.pos(e.v[0]);
-        let b = mesh.pos(e.v[1]);
-        let c = mesh.pos(e.opposite[0]);
-        let d = mesh.pos(e.opposite[1]);
-        if orient3d(a, b, c, d) != Sign::Zero {
-            continue;
-        }
-        if is_degenerate_triangle(a, b, c) || is_degenerate_triangle(a, b, d) {
-            continue;
-        }
-        let axes = [(0, 1), (1, 2), (2, 0)]
-            .into_iter()
-            .find(|&(i, j)| orient2d_axes(a, b, c, i, j) != Sign::Zero);
-        if let Some((i, j)) = axes {
-            if orient2d_axes(a, b, c, i, j) == orient2d_axes(a, b, d, i, j) {
-                let mut faces = e.faces.to_vec();
-                faces.sort_unstable();
-                found.push(Defect::Fold {
-                    a: e.v[0],
-                    b: e.v[1],
-                    faces,
-                });
+    topo.edges
+        .par_iter()
+        .filter(|e| {
+            let a = mesh.pos(e.v[0]);
+            let b = mesh.pos(e.v[1]);
+            let c = mesh.pos(e.opposite[0]);
+            let d = mesh.pos(e.opposite[1]);
+            if orient3d(a, b, c, d) != Sign::Zero
+                || is_degenerate_triangle(a, b, c)
+                || is_degenerate_triangle(a, b, d)
+            {
+                return false;
             }
-        }
-    }
-    found
+            [(0, 1), (1, 2), (2, 0)]
+                .into_iter()
+                .find(|&(i, j)| orient2d_axes(a, b, c, i, j) != Sign::Zero)
+                .is_some_and(|(i, j)| orient2d_axes(a, b, c, i, j) == orient2d_axes(a, b, d, i, j))
+        })
+        .map(|e| {
+            let mut faces = e.faces.to_vec();
+            faces.sort_unstable();
+            Defect::Fold {
+                a: e.v[0],
+                b: e.v[1],
+                faces,
+            }
+        })
+        .collect()
 }
 
 fn components(mesh: &Mesh, topo: &Topology) -> usize {
@@ -571,5 +596,36 @@ impl fmt::Display for Report {
             "REJECTED for slicing"
         };
         write!(f, "{verdict}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// Looking only at the faces the topology flags finds what
+        /// comparing every face finds: faces on few vertices, often the
+        /// same three in either orientation, in meshes with and without
+        /// other defects.
+        #[test]
+        fn flagged_faces_hold_every_duplicate(
+            nv in 3u32..9,
+            picks in proptest::collection::vec((0u32..9, 0u32..9, 0u32..9), 1..40),
+        ) {
+            let faces: Vec<[VertexId; 3]> = picks
+                .into_iter()
+                .map(|(a, b, c)| [a % nv, b % nv, c % nv].map(VertexId))
+                .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+                .collect();
+            let mesh = Mesh { positions: vec![[0.0; 3]; nv as usize], faces };
+            let (topo, issues) = Topology::build(&mesh);
+            let all: Vec<FaceId> = (0..mesh.num_faces()).map(FaceId::from_idx).collect();
+            prop_assert_eq!(
+                duplicate_faces(&mesh, &topo, &issues),
+                duplicates_among(&mesh, &all)
+            );
+        }
     }
 }
