@@ -114,6 +114,18 @@ fn output_bytes_are_identical_for_any_thread_count() {
         outputs.push(std::fs::read(&path).unwrap());
     }
     assert!(outputs.iter().all(|o| o == &outputs[0]));
+    // The summary is also made on the workers.
+    let summaries: Vec<String> = ["1", "2", "3"]
+        .iter()
+        .map(|t| {
+            let args = ["slice", "double_torus", "--layer-height", "1/8"];
+            let (code, text) = run(&[&args[..], &["--threads", t, "--quiet"]].concat());
+            assert_eq!(code, 0);
+            text
+        })
+        .collect();
+    assert!(summaries.iter().all(|s| s == &summaries[0]));
+    assert_eq!(summaries[0].matches("level z = ").count(), 32);
     let v: serde_json::Value = serde_json::from_slice(&outputs[0]).unwrap();
     // 0, 1/8, ..., up to the top of the double torus at z = 4: 33 planes.
     assert_eq!(v["levels"].as_array().unwrap().len(), 33);

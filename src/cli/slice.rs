@@ -10,10 +10,10 @@ use std::io::{IsTerminal, Write};
 use wmslice::exact::parse_rational;
 use wmslice::exact::rational::rat_from_f64;
 use wmslice::exact::rational::{rat_to_f64, rat_to_string, Rat};
-use wmslice::layers::{plan_levels, slice_levels, LayerPlan, SweepError};
+use wmslice::layers::{plan_levels, slice_levels, slice_levels_then, LayerPlan, SweepError};
 use wmslice::naive::naive_slice;
 use wmslice::output::atomic::AtomicFile;
-use wmslice::output::json::{to_json, Exactness, JsonWriter, MeshHeader};
+use wmslice::output::json::{level_text, to_json, Exactness, JsonWriter, MeshHeader};
 use wmslice::output::summary::summary;
 use wmslice::{LevelSet, Slicer};
 
@@ -194,7 +194,13 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
             error: anyhow::anyhow!("cannot start worker threads: {e}"),
         })?;
     let validating = step("validating the mesh and building its topology", a.quiet);
-    let slicer = pool.install(|| Slicer::with_unit(&input.mesh, unit));
+    // The header's fingerprint is hashed beside validation.
+    let (slicer, header) = pool.install(|| {
+        rayon::join(
+            || Slicer::with_unit(&input.mesh, unit),
+            || MeshHeader::new(&input.mesh, input.unit.as_ref()),
+        )
+    });
     validating.finish_and_clear();
     let slicer = slicer.map_err(slice_error)?;
     let bar = progress(levels.len(), a.quiet);
@@ -203,26 +209,28 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
     } else {
         Exactness::Rounded
     };
-    let header = MeshHeader::new(&input.mesh, input.unit.as_ref());
     let streamed = matches!(a.format, Format::Json | Format::Summary) && a.certificate.is_none();
     if streamed {
         let sink = Sink::open(a.output.as_deref())?;
         let sink = match a.format {
             Format::Json => {
                 let mut w = JsonWriter::begin(sink, &header, ex).map_err(output_error)?;
-                slice_levels(&slicer, &levels, threads, |_, ls| {
+                // Serialized on the workers, written here in order.
+                let text = |_: usize, ls: LevelSet| level_text(&ls, ex);
+                slice_levels_then(&slicer, &levels, threads, &text, |_, text| {
                     bar.inc(1);
-                    w.level(&ls)
+                    w.level_text(&text?)
                 })
                 .map_err(sweep_error)?;
                 w.finish().map_err(output_error)?
             }
             _ => {
                 let mut sink = sink;
-                slice_levels(&slicer, &levels, threads, |i, ls| {
+                let text = |_: usize, ls: LevelSet| summary(&ls);
+                slice_levels_then(&slicer, &levels, threads, &text, |i, text| {
                     bar.inc(1);
                     let sep = if i == 0 { "" } else { "\n" };
-                    writeln!(sink, "{sep}{}", summary(&ls))
+                    writeln!(sink, "{sep}{text}")
                 })
                 .map_err(sweep_error)?;
                 sink

@@ -194,18 +194,39 @@ pub fn slice_levels<E, S>(
     slicer: &Slicer<'_>,
     levels: &[Rat],
     threads: usize,
-    mut sink: S,
+    sink: S,
 ) -> Result<(), SweepError<E>>
 where
     E: std::error::Error + 'static,
     S: FnMut(usize, LevelSet) -> Result<(), E>,
 {
+    let finish = |_: usize, ls: LevelSet| ls;
+    slice_levels_then(slicer, levels, threads, &finish, sink)
+}
+
+/// [`slice_levels`] with a step run on the workers: `finish` turns each
+/// level set into what `sink` takes (e.g. its serialized text), so that
+/// work is spread over the threads too; `sink` still sees the results in
+/// level order, one at a time.
+pub fn slice_levels_then<T, E, F, S>(
+    slicer: &Slicer<'_>,
+    levels: &[Rat],
+    threads: usize,
+    finish: &F,
+    mut sink: S,
+) -> Result<(), SweepError<E>>
+where
+    T: Send,
+    E: std::error::Error + 'static,
+    F: Fn(usize, LevelSet) -> T + Sync,
+    S: FnMut(usize, T) -> Result<(), E>,
+{
     let threads = threads.clamp(1, levels.len().max(1));
     let heights = Heights::new(slicer, levels);
-    let worker = |t: usize, tx: std::sync::mpsc::SyncSender<Result<LevelSet, SliceError>>| {
+    let worker = |t: usize, tx: std::sync::mpsc::SyncSender<Result<T, SliceError>>| {
         let mut sweep = Sweep::new(&heights);
         for (index, c) in levels.iter().enumerate().skip(t).step_by(threads) {
-            let result = sweep.slice(slicer, index, c);
+            let result = sweep.slice(slicer, index, c).map(|ls| finish(index, ls));
             let failed = result.is_err();
             if tx.send(result).is_err() || failed {
                 return;
@@ -219,7 +240,7 @@ where
             let ls = sweep
                 .slice(slicer, index, c)
                 .map_err(|source| SweepError::Slice { index, source })?;
-            sink(index, ls).map_err(SweepError::Sink)?;
+            sink(index, finish(index, ls)).map_err(SweepError::Sink)?;
         }
         return Ok(());
     }
@@ -228,8 +249,7 @@ where
         .build()
         .map_err(|e| SweepError::Threads(e.to_string()))?;
     pool.in_place_scope(|scope| {
-        let mut receivers: Vec<Receiver<Result<LevelSet, SliceError>>> =
-            Vec::with_capacity(threads);
+        let mut receivers: Vec<Receiver<Result<T, SliceError>>> = Vec::with_capacity(threads);
         for t in 0..threads {
             let (tx, rx) = sync_channel(AHEAD);
             receivers.push(rx);
@@ -240,7 +260,7 @@ where
         for index in 0..levels.len() {
             let received = receivers[index % threads].recv();
             let step = match received {
-                Ok(Ok(ls)) => sink(index, ls).map_err(SweepError::Sink),
+                Ok(Ok(done)) => sink(index, done).map_err(SweepError::Sink),
                 Ok(Err(source)) => Err(SweepError::Slice { index, source }),
                 Err(_) => Err(SweepError::Threads("a worker stopped early".into())),
             };

@@ -231,6 +231,11 @@ fn json_level(ls: &LevelSet, ex: Exactness) -> serde_json::Result<JsonLevel> {
     })
 }
 
+/// One level's JSON text, as [`JsonWriter::level`] writes it.
+pub fn level_text(ls: &LevelSet, ex: Exactness) -> serde_json::Result<Vec<u8>> {
+    serde_json::to_vec(&json_level(ls, ex)?)
+}
+
 /// Writes one `wmslice-levelset` document level by level, so memory does
 /// not grow with the number of levels. The bytes equal [`to_json`]'s.
 pub struct JsonWriter<W: Write> {
@@ -250,10 +255,16 @@ impl<W: Write> JsonWriter<W> {
 
     /// Writes one level.
     pub fn level(&mut self, ls: &LevelSet) -> std::io::Result<()> {
+        self.level_text(&level_text(ls, self.ex)?)
+    }
+
+    /// Writes one level's text, made by [`level_text`] (possibly on another
+    /// thread) with this writer's exactness.
+    pub fn level_text(&mut self, text: &[u8]) -> std::io::Result<()> {
         if self.count > 0 {
             self.out.write_all(b",\n")?;
         }
-        serde_json::to_writer(&mut self.out, &json_level(ls, self.ex)?)?;
+        self.out.write_all(text)?;
         self.count += 1;
         Ok(())
     }
