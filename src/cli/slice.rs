@@ -158,8 +158,19 @@ fn sweep_error(e: SweepError<std::io::Error>) -> Failure {
 pub fn run(a: SliceArgs) -> Result<(), Failure> {
     let explicit = parse_levels(&a)?;
     let uniform = parse_uniform(&a)?;
+    let threads = a
+        .threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    // Welding and validation run on `threads` workers too.
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| Failure {
+            code: ExitCode::Internal,
+            error: anyhow::anyhow!("cannot start worker threads: {e}"),
+        })?;
     let loading = step("reading and welding the mesh", a.quiet);
-    let input = load_input(&a.mesh, a.snap.as_deref());
+    let input = pool.install(|| load_input(&a.mesh, a.snap.as_deref()));
     loading.finish_and_clear();
     let input = input?;
     if !a.quiet {
@@ -182,17 +193,6 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
         }
         return slice_naive(&a, &input, &levels);
     }
-    let threads = a
-        .threads
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    // Validation runs its independent passes on `threads` workers too.
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| Failure {
-            code: ExitCode::Internal,
-            error: anyhow::anyhow!("cannot start worker threads: {e}"),
-        })?;
     let validating = step("validating the mesh and building its topology", a.quiet);
     // The header's fingerprint is hashed beside validation.
     let (slicer, header) = pool.install(|| {

@@ -6,10 +6,13 @@
 //! and a NaN equals nothing, so every corner with a NaN coordinate becomes a
 //! vertex of its own (validation reports non-finite coordinates later). No
 //! distance tolerance is ever used. Vertex ids are given in first-seen order,
-//! so the result is deterministic. Linear time (one hash lookup per corner,
-//! with a randomly keyed hash so that no file can be crafted to collide).
+//! so the result is deterministic, whatever the number of threads. Linear
+//! time (one hash lookup per corner, and one per vertex of each parallel
+//! run when the runs are merged, with a randomly keyed hash so that no file
+//! can be crafted to collide).
 
 use hashbrown::HashTable;
+use rayon::prelude::*;
 
 use super::Mesh;
 use crate::ids::VertexId;
@@ -69,19 +72,22 @@ pub fn weld_exact(triangles: &[[[f64; 3]; 3]]) -> Welded {
 /// Welds a triangle soup by exact coordinate equality, failing (instead of
 /// panicking) when the ids would not fit in `u32`.
 pub fn try_weld_exact(triangles: &[[[f64; 3]; 3]]) -> Result<Welded, WeldError> {
-    weld_triangles(triangles.len(), |t| triangles[t])
+    weld_corners(triangles.len(), |i| triangles[i / 3][i % 3])
 }
 
-/// Welds the `n` triangles whose corners `corners(t)` gives (`t < n`), by
-/// exact coordinate equality, without a soup in memory: the binary STL
-/// reader passes a view of the file's records.
+/// Welds the `n` triangles whose corner `c` of triangle `t` is
+/// `corner(3 t + c)`, by exact coordinate equality, without a soup in
+/// memory: the binary STL reader passes a view of the file's records.
 ///
-/// The table holds vertex ids only (four bytes a slot); a lookup compares
-/// the corner with the kept vertex's coordinates, so the hot data is the
-/// table and the vertices seen so far, not one key copy per vertex.
-pub fn weld_triangles(
+/// Large inputs are welded in parallel on the caller's rayon pool: each
+/// run of consecutive triangles on its own (corners of nearby triangles
+/// are mostly the same vertices, so each table stays hot in cache), then
+/// the runs' vertices are looked up in order in the first run's table,
+/// which numbers them in first-seen order. The result does not depend on
+/// the number of threads.
+pub fn weld_corners(
     n: usize,
-    corners: impl Fn(usize) -> [[f64; 3]; 3],
+    corner: impl Fn(usize) -> [f64; 3] + Sync,
 ) -> Result<Welded, WeldError> {
     if n > MAX_ELEMENTS {
         return Err(WeldError::TooManyElements {
@@ -89,43 +95,125 @@ pub fn weld_triangles(
             limit: MAX_ELEMENTS,
         });
     }
-    let hasher = ahash::RandomState::new();
-    // A closed mesh has about half as many vertices as faces.
-    let mut index: HashTable<u32> = HashTable::with_capacity(n / 2 + 4);
-    let mut positions: Vec<[f64; 3]> = Vec::with_capacity(n / 2 + 4);
-    let mut faces: Vec<[VertexId; 3]> = Vec::with_capacity(n);
-    let too_many = WeldError::TooManyElements {
-        what: "vertices",
-        limit: MAX_ELEMENTS,
+    let runs = if n >= PARALLEL_FROM {
+        rayon::current_num_threads()
+    } else {
+        1
     };
-    for t in 0..n {
-        let mut face = [VertexId(0); 3];
-        for (slot, p) in face.iter_mut().zip(corners(t)) {
-            let key = corner_key(&p);
-            let hash = key.map(|k| hasher.hash_one(k));
-            if let (Some(k), Some(h)) = (key, hash) {
-                if let Some(&id) = index.find(h, |&id| kept_key(&positions, id) == k) {
-                    *slot = VertexId(id);
-                    continue;
-                }
-            }
-            let id = u32::try_from(positions.len())
-                .ok()
-                .filter(|&id| (id as usize) < MAX_ELEMENTS)
-                .ok_or(too_many)?;
-            positions.push(p);
-            if let Some(h) = hash {
-                index.insert_unique(h, id, |&id| hasher.hash_one(kept_key(&positions, id)));
-            }
-            *slot = VertexId(id);
-        }
-        faces.push(face);
+    weld_in_runs(n, &corner, runs)
+}
+
+/// Triangles from which welding is split into runs.
+const PARALLEL_FROM: usize = 1 << 14;
+
+const TOO_MANY_VERTICES: WeldError = WeldError::TooManyElements {
+    what: "vertices",
+    limit: MAX_ELEMENTS,
+};
+
+/// Corners `range` welded with one table of vertex ids (four bytes a
+/// slot; a lookup compares the corner with the kept vertex's
+/// coordinates): the distinct positions in first-seen order, each
+/// corner's id among them, and the table.
+struct Run {
+    positions: Vec<[f64; 3]>,
+    ids: Vec<u32>,
+    index: HashTable<u32>,
+}
+
+/// `vertices`: the room to make for distinct positions.
+fn weld_run(
+    range: std::ops::Range<usize>,
+    vertices: usize,
+    corner: &impl Fn(usize) -> [f64; 3],
+    hasher: &ahash::RandomState,
+) -> Result<Run, WeldError> {
+    let mut run = Run {
+        positions: Vec::with_capacity(vertices),
+        ids: Vec::with_capacity(range.len()),
+        index: HashTable::with_capacity(vertices),
+    };
+    for i in range {
+        let id = run.id_of(corner(i), hasher)?;
+        run.ids.push(id);
     }
-    let vertices = positions.len();
+    Ok(run)
+}
+
+impl Run {
+    /// The id of the vertex at `p`, a new one if `p` was not seen (or has a
+    /// NaN coordinate).
+    fn id_of(&mut self, p: [f64; 3], hasher: &ahash::RandomState) -> Result<u32, WeldError> {
+        let key = corner_key(&p);
+        let hash = key.map(|k| hasher.hash_one(k));
+        let positions = &self.positions;
+        if let (Some(k), Some(h)) = (key, hash) {
+            if let Some(&id) = self.index.find(h, |&id| kept_key(positions, id) == k) {
+                return Ok(id);
+            }
+        }
+        let id = u32::try_from(self.positions.len())
+            .ok()
+            .filter(|&id| (id as usize) < MAX_ELEMENTS)
+            .ok_or(TOO_MANY_VERTICES)?;
+        self.positions.push(p);
+        if let Some(h) = hash {
+            let positions = &self.positions;
+            self.index
+                .insert_unique(h, id, |&id| hasher.hash_one(kept_key(positions, id)));
+        }
+        Ok(id)
+    }
+}
+
+/// Welds in `runs` runs of consecutive triangles, in parallel, then merges
+/// them in order into the first.
+fn weld_in_runs(
+    n: usize,
+    corner: &(impl Fn(usize) -> [f64; 3] + Sync),
+    runs: usize,
+) -> Result<Welded, WeldError> {
+    let hasher = ahash::RandomState::new();
+    let per_run = n.div_ceil(runs.max(1)).max(1) * 3;
+    let ranges: Vec<std::ops::Range<usize>> = (0..3 * n)
+        .step_by(per_run)
+        .map(|s| s..(s + per_run).min(3 * n))
+        .collect();
+    // A closed mesh has about half as many vertices as faces, a sixth of
+    // its corners; the first run takes in all of them.
+    let mut parts = ranges
+        .into_par_iter()
+        .enumerate()
+        .map(|(k, r)| {
+            let room = if k == 0 { n / 2 } else { r.len() / 5 };
+            weld_run(r, room + 4, corner, &hasher)
+        })
+        .collect::<Result<Vec<Run>, WeldError>>()?
+        .into_iter();
+    let mut all = match parts.next() {
+        Some(first) => first,
+        None => weld_run(0..0, 0, corner, &hasher)?,
+    };
+    for part in parts {
+        let global: Vec<u32> = part
+            .positions
+            .into_iter()
+            .map(|p| all.id_of(p, &hasher))
+            .collect::<Result<_, _>>()?;
+        all.ids.extend(part.ids.iter().map(|&l| global[l as usize]));
+    }
+    let faces: Vec<[VertexId; 3]> = all
+        .ids
+        .chunks_exact(3)
+        .map(|c| [VertexId(c[0]), VertexId(c[1]), VertexId(c[2])])
+        .collect();
     Ok(Welded {
-        mesh: Mesh { positions, faces },
-        corners: n * 3,
-        vertices,
+        vertices: all.positions.len(),
+        corners: all.ids.len(),
+        mesh: Mesh {
+            positions: all.positions,
+            faces,
+        },
     })
 }
 
@@ -209,6 +297,38 @@ mod tests {
         (positions, faces)
     }
 
+    /// Runs on many threads (of a pool of 3): the weld equals the linear
+    /// search on 20000 triangles over a few hundred distinct corners.
+    #[test]
+    fn sharded_weld_over_many_blocks_agrees_with_linear_search() {
+        let values = [0.0, -0.0, 1.0, 0.1, f64::NAN, -3.5, 7.25];
+        let mut state = 12345u64;
+        let mut pick = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            values[(state >> 33) as usize % values.len()]
+        };
+        let soup: Vec<[[f64; 3]; 3]> = (0..20_000)
+            .map(|_| {
+                [
+                    [pick(), pick(), pick()],
+                    [pick(), pick(), pick()],
+                    [pick(), pick(), pick()],
+                ]
+            })
+            .collect();
+        assert!(soup.len() >= PARALLEL_FROM);
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(3)
+            .build()
+            .unwrap();
+        let w = pool.install(|| weld_exact(&soup));
+        let (positions, faces) = weld_by_search(&soup);
+        assert_eq!(w.mesh.faces, faces);
+        assert_eq!(w.mesh.positions.len(), positions.len());
+    }
+
     proptest::proptest! {
         /// Coordinates from a small set (with both zeros and NaN), so that
         /// corners repeat often: the table agrees with the linear search,
@@ -225,13 +345,19 @@ mod tests {
                     [p(0), p(3), p(6)]
                 })
                 .collect();
-            let w = weld_exact(&soup);
             let (positions, faces) = weld_by_search(&soup);
-            proptest::prop_assert_eq!(&w.mesh.faces, &faces);
             let bits = |v: &[[f64; 3]]| -> Vec<[u64; 3]> {
                 v.iter().map(|p| p.map(f64::to_bits)).collect()
             };
-            proptest::prop_assert_eq!(bits(&w.mesh.positions), bits(&positions));
+            let corner = |i: usize| soup[i / 3][i % 3];
+            let n = soup.len();
+            // One run and several, whatever weld_exact would pick here.
+            for w in (1..5).map(|runs| weld_in_runs(n, &corner, runs)) {
+                let w = w.unwrap();
+                proptest::prop_assert_eq!(&w.mesh.faces, &faces);
+                proptest::prop_assert_eq!(bits(&w.mesh.positions), bits(&positions));
+                proptest::prop_assert_eq!(w.corners, 3 * n);
+            }
         }
     }
 }

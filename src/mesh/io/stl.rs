@@ -14,7 +14,7 @@ use std::io::Write;
 
 use super::text::{self, is_space, parse_f64, show};
 use super::{corners, write_err, LoadError, LoadNote, LoadReport, MeshFormat, SaveError};
-use crate::mesh::weld::{try_weld_exact, weld_triangles, WeldError, Welded};
+use crate::mesh::weld::{try_weld_exact, weld_corners, WeldError, Welded};
 use crate::mesh::Mesh;
 
 const HEADER: usize = 80;
@@ -130,10 +130,9 @@ fn read_binary(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
         |r: &[u8], o: usize| f64::from(f32::from_le_bytes([r[o], r[o + 1], r[o + 2], r[o + 3]]));
     // Bytes 0..12 of a record are the normal (ignored), 48..50 the
     // attribute count.
-    let corner = |r: &[u8], o: usize| [f(r, o), f(r, o + 4), f(r, o + 8)];
-    let welded = weld_triangles(n as usize, |t| {
-        let r = &records[t * RECORD as usize..(t + 1) * RECORD as usize];
-        [corner(r, 12), corner(r, 24), corner(r, 36)]
+    let welded = weld_corners(n as usize, |i| {
+        let o = (i / 3) * RECORD as usize + 12 + 12 * (i % 3);
+        [f(records, o), f(records, o + 4), f(records, o + 8)]
     })
     .map_err(|e| weld_error(e, format))?;
     if need < len {
