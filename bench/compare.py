@@ -155,6 +155,13 @@ def tool_runner(tool, args, mesh, plan_args, levels_file, cli):
 
         def once():
             r = run_json([args.bench_slice, mesh, *plan_args, "--threads", threads])
+            # Not timed: removing the previous run's output (freeing a large
+            # file is the file system's work, not this run's) and flushing
+            # earlier writes, so that this run's fsync waits for its own data.
+            out = cli[cli.index("-o") + 1]
+            if os.path.exists(out):
+                os.remove(out)
+            os.sync()
             e2e = wall(cli)
             return dict(load_s=r["load_s"] + r["build_s"], slice_s=r["slice_s"], e2e_s=e2e,
                         contours=r["contours"])
@@ -218,7 +225,8 @@ def table(rows, machine, vers, args):
         "Ratios: tool time / wmslice (one thread) time, from the same run (above 1: wmslice is faster).",
         "wmslice end-to-end: wall time of `wmslice slice MESH --layer-height H --first Z0 --last Z1",
         "--threads 1 --quiet --format json -o out.json` (read the binary STL, weld, validate, build",
-        "the topology, slice, write JSON). wmslice slice: `layers::slice_levels` alone",
+        "the topology, slice, write JSON, fsync, rename; the previous output is removed and earlier",
+        "writes flushed before each timed run). wmslice slice: `layers::slice_levels` alone",
         "(`examples/bench_slice.rs`, which also gives load+build). Peers: load, build and slice",
         "timed inside their process (interpreter start and imports not counted, nothing written).",
         "`> T`: the run was stopped at the timeout T; `> T*`: not run, the same tool took over T",
