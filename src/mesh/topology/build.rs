@@ -12,6 +12,7 @@
 //! threads.
 
 use rayon::prelude::*;
+use std::ops::Range;
 
 use super::{Edge, FanEntry, Topology, TopologyIssue, NO_FACE};
 use crate::ids::{EdgeId, FaceId, VertexId};
@@ -35,16 +36,36 @@ const SMALL_FAN: usize = 16;
 pub(super) fn build(mesh: &Mesh) -> (Topology, Vec<TopologyIssue>) {
     let nv = mesh.num_vertices();
     let (fan_start, corners) = corners_by_vertex(mesh);
-    let blocks: Vec<std::ops::Range<usize>> = (0..nv.div_ceil(BLOCK))
+    let blocks: Vec<Range<usize>> = (0..nv.div_ceil(BLOCK))
         .map(|b| b * BLOCK..((b + 1) * BLOCK).min(nv))
         .collect();
-
     let per_block: Vec<BlockEdges> = blocks
         .par_iter()
         .map(|vs| block_edges(vs.clone(), &fan_start, &corners))
         .collect();
+    let (edges, edge_start, mut issues) = join_blocks(per_block, mesh);
+    let face_edges = face_edges(mesh, &edges, &edge_start);
+    let (fan, bowties) = fans(mesh, &blocks, &fan_start, &corners, &face_edges);
+    issues.extend(bowties);
+    (
+        Topology {
+            edges,
+            face_edges,
+            fan_start,
+            fan,
+        },
+        issues,
+    )
+}
+
+/// The blocks' edges in order, where each vertex's edges start (`nv + 1`
+/// entries), and the bad edges.
+fn join_blocks(
+    per_block: Vec<BlockEdges>,
+    mesh: &Mesh,
+) -> (Vec<Edge>, Vec<u32>, Vec<TopologyIssue>) {
     let mut edges = Vec::with_capacity(3 * mesh.num_faces() / 2 + 1);
-    let mut edge_start = Vec::with_capacity(nv + 1);
+    let mut edge_start = Vec::with_capacity(mesh.num_vertices() + 1);
     edge_start.push(0u32);
     let mut issues = Vec::new();
     for b in per_block {
@@ -55,9 +76,13 @@ pub(super) fn build(mesh: &Mesh) -> (Topology, Vec<TopologyIssue>) {
         edges.extend(b.edges);
         issues.extend(b.issues);
     }
+    (edges, edge_start, issues)
+}
 
-    let face_edges: Vec<[EdgeId; 3]> = mesh
-        .faces
+/// For each face, the edge from corner `i` to corner `i + 1`: found among
+/// the edges of its lower endpoint.
+fn face_edges(mesh: &Mesh, edges: &[Edge], edge_start: &[u32]) -> Vec<[EdgeId; 3]> {
+    mesh.faces
         .par_iter()
         .map(|tri| {
             std::array::from_fn(|c| {
@@ -70,20 +95,27 @@ pub(super) fn build(mesh: &Mesh) -> (Topology, Vec<TopologyIssue>) {
                     .map_or(EdgeId(u32::MAX), EdgeId::from_idx)
             })
         })
-        .collect();
+        .collect()
+}
 
-    // Each block fills its own part of the fan table.
-    let mut fan = vec![
-        FanEntry {
-            neighbour: VertexId(0),
-            edge: EdgeId(0),
-            face: FaceId(0),
-        };
-        corners.len()
-    ];
+/// The fan table, each block of vertices filling its own part, and the
+/// bowtie vertices.
+fn fans(
+    mesh: &Mesh,
+    blocks: &[Range<usize>],
+    fan_start: &[u32],
+    corners: &[Corner],
+    face_edges: &[[EdgeId; 3]],
+) -> (Vec<FanEntry>, Vec<TopologyIssue>) {
+    let blank = FanEntry {
+        neighbour: VertexId(0),
+        edge: EdgeId(0),
+        face: FaceId(0),
+    };
+    let mut fan = vec![blank; corners.len()];
     let mut parts = Vec::with_capacity(blocks.len());
     let mut rest = fan.as_mut_slice();
-    for vs in &blocks {
+    for vs in blocks {
         let len = (fan_start[vs.end] - fan_start[vs.start]) as usize;
         let (part, tail) = rest.split_at_mut(len);
         parts.push((vs.clone(), part));
@@ -91,18 +123,9 @@ pub(super) fn build(mesh: &Mesh) -> (Topology, Vec<TopologyIssue>) {
     }
     let bowties: Vec<Vec<TopologyIssue>> = parts
         .into_par_iter()
-        .map(|(vs, out)| block_fans(mesh, vs, &fan_start, &corners, &face_edges, out))
+        .map(|(vs, out)| block_fans(mesh, vs, fan_start, corners, face_edges, out))
         .collect();
-    issues.extend(bowties.into_iter().flatten());
-    (
-        Topology {
-            edges,
-            face_edges,
-            fan_start,
-            fan,
-        },
-        issues,
-    )
+    (fan, bowties.into_iter().flatten().collect())
 }
 
 /// The corners grouped by vertex, each vertex's in face order, and where
@@ -155,7 +178,7 @@ struct HalfEdge {
     opposite: VertexId,
 }
 
-fn block_edges(vs: std::ops::Range<usize>, start: &[u32], corners: &[Corner]) -> BlockEdges {
+fn block_edges(vs: Range<usize>, start: &[u32], corners: &[Corner]) -> BlockEdges {
     let mut out = BlockEdges {
         edges: Vec::new(),
         counts: Vec::with_capacity(vs.len()),
@@ -232,7 +255,7 @@ fn edge(lo: VertexId, group: &[HalfEdge], issues: &mut Vec<TopologyIssue>) -> Ed
 /// to `out` (the block's part of the fan table); returns the bowties.
 fn block_fans(
     mesh: &Mesh,
-    vs: std::ops::Range<usize>,
+    vs: Range<usize>,
     start: &[u32],
     corners: &[Corner],
     face_edges: &[[EdgeId; 3]],
