@@ -1,4 +1,4 @@
-//! Input: exact points (`f64` coordinates or [`Point2`](super::Point2)).
+//! Input: exact points (`f64` coordinates or [`Point2`]).
 //! Output: exact signs of orientation determinants.
 //!
 //! `f64` predicates use Shewchuk's adaptive predicates from `robust`, whose

@@ -4,11 +4,8 @@
 //! only for writing.
 
 pub mod atomic;
-/// Common Layer Interface (the AM layer format): writer and reader.
 pub mod cli_layers;
-/// The self-contained HTML layer viewer.
 pub mod html;
 pub mod json;
 pub mod summary;
-/// SVG drawings of level sets, one class per kind.
 pub mod svg;
