@@ -18,7 +18,9 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
 pub struct AtomicFile {
     tmp: tempfile::NamedTempFile,
     path: std::path::PathBuf,
+    /// Bytes written so far.
     written: u64,
+    /// Bytes already handed to the disk (see [`start_writeback`]).
     flushed: u64,
 }
 
