@@ -181,15 +181,17 @@ fn weld_in_runs(
         .collect();
     // A closed mesh has about half as many vertices as faces, a sixth of
     // its corners; the first run takes in all of them.
-    let mut parts = ranges
-        .into_par_iter()
-        .enumerate()
-        .map(|(k, r)| {
-            let room = if k == 0 { n / 2 } else { r.len() / 5 };
-            weld_run(r, room + 4, corner, &hasher)
-        })
-        .collect::<Result<Vec<Run>, WeldError>>()?
-        .into_iter();
+    let weld = |(k, r): (usize, std::ops::Range<usize>)| {
+        let room = if k == 0 { n / 2 } else { r.len() / 5 };
+        weld_run(r, room + 4, corner, &hasher)
+    };
+    // One run stays on this thread (no hand-over to the pool).
+    let parts: Result<Vec<Run>, WeldError> = if ranges.len() > 1 {
+        ranges.into_par_iter().enumerate().map(weld).collect()
+    } else {
+        ranges.into_iter().enumerate().map(weld).collect()
+    };
+    let mut parts = parts?.into_iter();
     let mut all = match parts.next() {
         Some(first) => first,
         None => weld_run(0..0, 0, corner, &hasher)?,
