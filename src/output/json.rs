@@ -12,7 +12,6 @@ use crate::mesh::Mesh;
 use crate::nest::Role;
 use crate::segment::CutPoint;
 use serde::Serialize;
-use serde_json::value::RawValue;
 use sha2::{Digest, Sha256};
 use std::io::Write;
 use std::sync::Arc;
@@ -128,21 +127,6 @@ struct JsonSaddle {
     branches: u32,
 }
 
-/// Loop lists are serialized ahead: L- and L+ that share S_O's loops
-/// (no vertex on the plane) reuse its text instead of formatting every
-/// point three times.
-#[derive(Serialize)]
-struct JsonLevel {
-    z: String,
-    contours: Box<RawValue>,
-    faces: Vec<JsonRegion>,
-    ridges: Vec<JsonRidge>,
-    points: Vec<JsonPoint>,
-    saddles: Vec<JsonSaddle>,
-    below: Box<RawValue>,
-    above: Box<RawValue>,
-}
-
 fn exact_xy(p: &Point2) -> [String; 2] {
     [rat_to_string(&p.x), rat_to_string(&p.y)]
 }
@@ -174,66 +158,81 @@ fn json_loop(l: &Loop, ex: Exactness) -> JsonLoop {
     }
 }
 
-fn json_level(ls: &LevelSet, ex: Exactness) -> serde_json::Result<JsonLevel> {
-    let loops = |v: &[Loop]| -> Vec<JsonLoop> { v.iter().map(|l| json_loop(l, ex)).collect() };
-    let text = |v: &[Loop]| serde_json::value::to_raw_value(&loops(v));
-    let contours = text(&ls.contours)?;
-    let same = |v: &Arc<Vec<Loop>>| -> serde_json::Result<Box<RawValue>> {
-        if Arc::ptr_eq(v, &ls.contours) {
-            Ok(contours.clone())
-        } else {
-            text(v)
-        }
-    };
-    let (below, above) = (same(&ls.below)?, same(&ls.above)?);
-    Ok(JsonLevel {
-        z: rat_to_string(&ls.level),
-        contours,
-        faces: ls
-            .regions
-            .iter()
-            .map(|r| JsonRegion {
-                facing: r.facing,
-                faces: r.faces.iter().map(|f| f.0).collect(),
-                area: rat_to_string(&r.area),
-                boundary: loops(&r.boundary),
-            })
-            .collect(),
-        ridges: ls
-            .ridges
-            .iter()
-            .map(|r| JsonRidge {
-                kind: r.kind,
-                closed: r.closed,
-                vertices: r.vertices.iter().map(|v| v.0).collect(),
-                points: r.points.iter().map(Point2::to_f64).collect(),
-            })
-            .collect(),
-        points: ls
-            .extrema
-            .iter()
-            .map(|p| JsonPoint {
-                vertex: p.vertex.0,
-                kind: p.kind,
-                point: p.point.to_f64(),
-            })
-            .collect(),
-        saddles: ls
-            .saddles
-            .iter()
-            .map(|s| JsonSaddle {
-                vertex: s.vertex.0,
-                branches: s.branches,
-            })
-            .collect(),
-        below,
-        above,
-    })
+/// Writes `,"key":value`.
+fn field<T: Serialize>(out: &mut Vec<u8>, key: &str, value: &T) -> serde_json::Result<()> {
+    out.extend_from_slice(b",\"");
+    out.extend_from_slice(key.as_bytes());
+    out.extend_from_slice(b"\":");
+    serde_json::to_writer(&mut *out, value)
 }
 
-/// One level's JSON text, as [`JsonWriter::level`] writes it.
+/// One level's JSON text, as [`JsonWriter::level`] writes it: an object
+/// with the keys of SPEC section 9 in order. L- and L+ that are S_O's loops
+/// (no vertex on the plane) repeat its text instead of formatting every
+/// point again.
 pub fn level_text(ls: &LevelSet, ex: Exactness) -> serde_json::Result<Vec<u8>> {
-    serde_json::to_vec(&json_level(ls, ex)?)
+    let loops = |v: &[Loop]| -> Vec<JsonLoop> { v.iter().map(|l| json_loop(l, ex)).collect() };
+    // About 40 bytes a rounded point: room for S_O once.
+    let points: usize = ls.contours.iter().map(|l| l.points.len()).sum();
+    let mut out = Vec::with_capacity(64 + 40 * points);
+    out.extend_from_slice(b"{\"z\":");
+    serde_json::to_writer(&mut out, &rat_to_string(&ls.level))?;
+    let start = out.len() + b",\"contours\":".len();
+    field(&mut out, "contours", &loops(&ls.contours))?;
+    let contours = start..out.len();
+    let regions: Vec<JsonRegion> = ls
+        .regions
+        .iter()
+        .map(|r| JsonRegion {
+            facing: r.facing,
+            faces: r.faces.iter().map(|f| f.0).collect(),
+            area: rat_to_string(&r.area),
+            boundary: loops(&r.boundary),
+        })
+        .collect();
+    field(&mut out, "faces", &regions)?;
+    let ridges: Vec<JsonRidge> = ls
+        .ridges
+        .iter()
+        .map(|r| JsonRidge {
+            kind: r.kind,
+            closed: r.closed,
+            vertices: r.vertices.iter().map(|v| v.0).collect(),
+            points: r.points.iter().map(Point2::to_f64).collect(),
+        })
+        .collect();
+    field(&mut out, "ridges", &ridges)?;
+    let extrema: Vec<JsonPoint> = ls
+        .extrema
+        .iter()
+        .map(|p| JsonPoint {
+            vertex: p.vertex.0,
+            kind: p.kind,
+            point: p.point.to_f64(),
+        })
+        .collect();
+    field(&mut out, "points", &extrema)?;
+    let saddles: Vec<JsonSaddle> = ls
+        .saddles
+        .iter()
+        .map(|s| JsonSaddle {
+            vertex: s.vertex.0,
+            branches: s.branches,
+        })
+        .collect();
+    field(&mut out, "saddles", &saddles)?;
+    for (key, family) in [("below", &ls.below), ("above", &ls.above)] {
+        if Arc::ptr_eq(family, &ls.contours) {
+            out.extend_from_slice(b",\"");
+            out.extend_from_slice(key.as_bytes());
+            out.extend_from_slice(b"\":");
+            out.extend_from_within(contours.clone());
+        } else {
+            field(&mut out, key, &loops(family))?;
+        }
+    }
+    out.push(b'}');
+    Ok(out)
 }
 
 /// Writes one `wmslice-levelset` document level by level, so memory does
