@@ -324,20 +324,28 @@ pub fn validate(mesh: &Mesh) -> Report {
             });
         }
     }
-    if finite {
-        let (zero_area, folded) = rayon::join(
-            || zero_area_faces(mesh),
-            || {
-                if closed_manifold {
-                    folds(mesh, &topo)
-                } else {
-                    Vec::new()
-                }
-            },
-        );
-        for d in zero_area.into_iter().chain(folded) {
-            sink.push(d);
-        }
+    // The component count (a serial union-find) beside the geometric
+    // checks (parallel over faces and edges).
+    let (components, (zero_area, folded)) = rayon::join(
+        || components(mesh, &topo),
+        || {
+            if !finite {
+                return (Vec::new(), Vec::new());
+            }
+            rayon::join(
+                || zero_area_faces(mesh),
+                || {
+                    if closed_manifold {
+                        folds(mesh, &topo)
+                    } else {
+                        Vec::new()
+                    }
+                },
+            )
+        },
+    );
+    for d in zero_area.into_iter().chain(folded) {
+        sink.push(d);
     }
     if closed_manifold && finite && !mesh.faces.is_empty() && !volume.is_positive() {
         sink.push(Defect::NotOutward {
@@ -348,7 +356,7 @@ pub fn validate(mesh: &Mesh) -> Report {
     let used_count = used.iter().filter(|&&u| u).count() as i64;
     stats.edges = topo.num_edges();
     stats.euler_characteristic = used_count - stats.edges as i64 + stats.faces as i64;
-    stats.components = components(mesh, &topo);
+    stats.components = components;
     if closed_manifold {
         stats.genus = Some((2 * stats.components as i64 - stats.euler_characteristic) / 2);
     }
