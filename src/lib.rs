@@ -27,6 +27,7 @@ pub mod segment;
 pub use levelset::{LevelSet, SliceError, Slicer};
 pub mod naive;
 pub mod output;
+mod par;
 pub mod verify;
 
 /// The README's examples, compiled and run as doc tests.

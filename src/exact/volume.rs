@@ -55,6 +55,7 @@ pub fn signed_volume(mesh: &Mesh) -> Rat {
         let acc: i128 = mesh
             .faces
             .par_iter()
+            .with_min_len(crate::par::MIN_LEN)
             .filter_map(corners)
             .map(|t| {
                 let [a, b, c] = t.map(|p| p.map(to_i));

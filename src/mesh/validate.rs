@@ -15,6 +15,7 @@ use crate::exact::volume::signed_volume;
 use crate::ids::{FaceId, VertexId};
 use crate::mesh::topology::{Topology, TopologyIssue, NO_FACE};
 use crate::mesh::Mesh;
+use crate::par;
 use num_traits::Signed;
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -299,7 +300,9 @@ pub fn validate(mesh: &Mesh) -> Report {
 
     // Independent passes, on the caller's rayon pool (one thread: one
     // after the other); defects are reported in the same order either way.
-    let (volume, (topo, issues)) = rayon::join(|| signed_volume(mesh), || Topology::build(mesh));
+    let parallel = mesh.num_faces() >= par::MIN_LEN;
+    let (volume, (topo, issues)) =
+        par::join(parallel, || signed_volume(mesh), || Topology::build(mesh));
     stats.volume = rat_to_string(&volume);
     for d in duplicate_faces(mesh, &topo, &issues) {
         sink.push(d);
@@ -326,13 +329,15 @@ pub fn validate(mesh: &Mesh) -> Report {
     }
     // The component count (a serial union-find) beside the geometric
     // checks (parallel over faces and edges).
-    let (components, (zero_area, folded)) = rayon::join(
+    let (components, (zero_area, folded)) = par::join(
+        parallel,
         || components(mesh, &topo),
         || {
             if !finite {
                 return (Vec::new(), Vec::new());
             }
-            rayon::join(
+            par::join(
+                parallel,
                 || zero_area_faces(mesh),
                 || {
                     if closed_manifold {
@@ -395,6 +400,7 @@ fn duplicate_faces(mesh: &Mesh, topo: &Topology, issues: &[TopologyIssue]) -> Ve
     let mut candidates: Vec<FaceId> = topo
         .edges
         .par_iter()
+        .with_min_len(par::MIN_LEN)
         .filter(|e| e.opposite[0] == e.opposite[1])
         .flat_map_iter(|e| e.faces)
         .collect();
@@ -496,6 +502,7 @@ fn report_topology_issues(mesh: &Mesh, issues: Vec<TopologyIssue>, sink: &mut Si
 fn zero_area_faces(mesh: &Mesh) -> Vec<Defect> {
     (0..mesh.num_faces())
         .into_par_iter()
+        .with_min_len(par::MIN_LEN)
         .filter(|&f| {
             let [a, b, c] = mesh.faces[f].map(|v| mesh.pos(v));
             is_degenerate_triangle(a, b, c)
@@ -513,6 +520,7 @@ fn zero_area_faces(mesh: &Mesh) -> Vec<Defect> {
 fn folds(mesh: &Mesh, topo: &Topology) -> Vec<Defect> {
     topo.edges
         .par_iter()
+        .with_min_len(par::MIN_LEN)
         .filter(|e| {
             let a = mesh.pos(e.v[0]);
             let b = mesh.pos(e.v[1]);

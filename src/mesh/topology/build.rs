@@ -17,6 +17,7 @@ use std::ops::Range;
 use super::{Edge, FanEntry, Topology, TopologyIssue, NO_FACE};
 use crate::ids::{EdgeId, FaceId, VertexId};
 use crate::mesh::Mesh;
+use crate::par;
 
 /// The corner of `face` at some vertex `v`: the face runs `v -> next -> prev`.
 #[derive(Clone, Copy, Debug, Default)]
@@ -84,6 +85,7 @@ fn join_blocks(
 fn face_edges(mesh: &Mesh, edges: &[Edge], edge_start: &[u32]) -> Vec<[EdgeId; 3]> {
     mesh.faces
         .par_iter()
+        .with_min_len(par::MIN_LEN)
         .map(|tri| {
             std::array::from_fn(|c| {
                 let (a, b) = (tri[c], tri[(c + 1) % 3]);
