@@ -158,11 +158,16 @@ fn json_loop(l: &Loop, ex: Exactness) -> JsonLoop {
     }
 }
 
-/// Writes `,"key":value`.
-fn field<T: Serialize>(out: &mut Vec<u8>, key: &str, value: &T) -> serde_json::Result<()> {
+/// Writes `,"key":`.
+fn key(out: &mut Vec<u8>, key: &str) {
     out.extend_from_slice(b",\"");
     out.extend_from_slice(key.as_bytes());
     out.extend_from_slice(b"\":");
+}
+
+/// Writes `,"key":value`.
+fn field<T: Serialize>(out: &mut Vec<u8>, name: &str, value: &T) -> serde_json::Result<()> {
+    key(out, name);
     serde_json::to_writer(&mut *out, value)
 }
 
@@ -221,14 +226,12 @@ pub fn level_text(ls: &LevelSet, ex: Exactness) -> serde_json::Result<Vec<u8>> {
         })
         .collect();
     field(&mut out, "saddles", &saddles)?;
-    for (key, family) in [("below", &ls.below), ("above", &ls.above)] {
+    for (name, family) in [("below", &ls.below), ("above", &ls.above)] {
         if Arc::ptr_eq(family, &ls.contours) {
-            out.extend_from_slice(b",\"");
-            out.extend_from_slice(key.as_bytes());
-            out.extend_from_slice(b"\":");
+            key(&mut out, name);
             out.extend_from_within(contours.clone());
         } else {
-            field(&mut out, key, &loops(family))?;
+            field(&mut out, name, &loops(family))?;
         }
     }
     out.push(b'}');
