@@ -137,11 +137,14 @@ impl FaceSum {
             }
             let shift = (ex[i] - e) as u32;
             // Below 2^40 each: products below 2^120, the determinant below 2^123.
-            if shift >= 40 || (i128::from(m[i]) << shift).unsigned_abs() >= 1 << 40 {
-                fits = false;
-                break;
+            let ki = (shift < 40).then(|| i128::from(m[i]) << shift);
+            match ki.filter(|ki| ki.unsigned_abs() < 1 << 40) {
+                Some(ki) => k[i] = ki,
+                None => {
+                    fits = false;
+                    break;
+                }
             }
-            k[i] = i128::from(m[i]) << shift;
         }
         if fits {
             let row = |r: usize| [k[3 * r], k[3 * r + 1], k[3 * r + 2]];
