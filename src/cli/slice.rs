@@ -219,7 +219,7 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
                 let text = |_: usize, ls: LevelSet| level_text(&ls, ex);
                 slice_levels_then(&slicer, &levels, threads, &text, |_, text| {
                     bar.inc(1);
-                    w.level_text(&text?)
+                    w.level_text(&text)
                 })
                 .map_err(sweep_error)?;
                 w.finish().map_err(output_error)?

@@ -4,16 +4,15 @@
 //! added (`exact`, `area_exact`) together with the mesh element each point
 //! lies on (`on`, an extra key).
 
-use crate::exact::point::LoopPoint;
 use crate::exact::rational::{rat_to_f64, rat_to_string, Rat};
-use crate::exact::Point2;
 use crate::levelset::{LevelSet, Loop};
 use crate::mesh::Mesh;
-use crate::nest::Role;
 use crate::segment::CutPoint;
 use serde::Serialize;
+use serde_json::ser::{CompactFormatter, Formatter};
 use sha2::{Digest, Sha256};
 use std::io::Write;
+use std::ops::Range;
 use std::sync::Arc;
 
 /// Whether exact rationals are written beside the rounded values.
@@ -77,165 +76,238 @@ pub fn hex(bytes: &[u8]) -> String {
     bytes.iter().map(|b| format!("{b:02x}")).collect()
 }
 
-#[derive(Serialize)]
-#[serde(rename_all = "lowercase")]
-enum On {
-    Edge(u32),
-    Vertex(u32),
+/// One level's JSON text (see [`level_text`]): byte ranges of one buffer,
+/// written in order. L- and L+ that are S_O's loops are S_O's range again,
+/// so their text is neither formatted nor copied twice.
+#[derive(Clone, Debug, Default)]
+pub struct LevelText {
+    bytes: Vec<u8>,
+    parts: Vec<Range<usize>>,
+    /// Start of the part being written.
+    open: usize,
 }
 
-#[derive(Serialize)]
-struct JsonLoop {
-    points: Vec<[f64; 2]>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    exact: Option<Vec<[String; 2]>>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    on: Option<Vec<On>>,
-    area: f64,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    area_exact: Option<String>,
-    role: Role,
-    parent: Option<usize>,
+impl LevelText {
+    /// Writes the text.
+    pub fn write_to<W: Write + ?Sized>(&self, out: &mut W) -> std::io::Result<()> {
+        for r in &self.parts {
+            out.write_all(&self.bytes[r.clone()])?;
+        }
+        Ok(())
+    }
+
+    /// The text as one byte string.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let mut out = Vec::with_capacity(self.parts.iter().map(|r| r.len()).sum());
+        self.parts
+            .iter()
+            .for_each(|r| out.extend_from_slice(&self.bytes[r.clone()]));
+        out
+    }
+
+    /// Ends the part being written at the end of the buffer.
+    fn close(&mut self) {
+        let end = self.bytes.len();
+        if end > self.open {
+            self.parts.push(self.open..end);
+        }
+        self.open = end;
+    }
+
+    /// Writes an earlier range again, by reference.
+    fn repeat(&mut self, range: Range<usize>) {
+        self.close();
+        self.parts.push(range);
+    }
 }
 
-#[derive(Serialize)]
-struct JsonRegion {
-    facing: crate::classify::Facing,
-    faces: Vec<u32>,
-    area: String,
-    boundary: Vec<JsonLoop>,
+/// Writes a double as `serde_json` does (shortest round-trip text;
+/// `null` when not finite).
+fn number(out: &mut Vec<u8>, v: f64) {
+    if v.is_finite() {
+        // Writing into a `Vec` cannot fail.
+        let _ = CompactFormatter.write_f64(out, v);
+    } else {
+        out.extend_from_slice(b"null");
+    }
 }
 
-#[derive(Serialize)]
-struct JsonRidge {
-    kind: crate::classify::RidgeKind,
-    closed: bool,
-    vertices: Vec<u32>,
-    points: Vec<[f64; 2]>,
+/// Writes an unsigned integer.
+fn integer(out: &mut Vec<u8>, v: u64) {
+    let _ = CompactFormatter.write_u64(out, v);
 }
 
-#[derive(Serialize)]
-struct JsonPoint {
-    vertex: u32,
-    kind: crate::classify::ExtremumKind,
-    point: [f64; 2],
+/// Writes `[x,y]`.
+fn pair(out: &mut Vec<u8>, [x, y]: [f64; 2]) {
+    out.push(b'[');
+    number(out, x);
+    out.push(b',');
+    number(out, y);
+    out.push(b']');
 }
 
-#[derive(Serialize)]
-struct JsonSaddle {
-    vertex: u32,
-    branches: u32,
+/// Writes a string that needs no escaping (rationals, enum names).
+fn plain_string(out: &mut Vec<u8>, s: &str) {
+    out.push(b'"');
+    out.extend_from_slice(s.as_bytes());
+    out.push(b'"');
 }
 
-fn exact_xy(p: &Point2) -> [String; 2] {
-    [rat_to_string(&p.x), rat_to_string(&p.y)]
+/// Writes a unit enum as `serde` names it.
+fn name<T: Serialize>(out: &mut Vec<u8>, v: &T) {
+    // Unit variants with plain names: cannot fail.
+    let _ = serde_json::to_writer(&mut *out, v);
 }
 
-/// With exact output, `area` is the nearest double of `area_exact`
-/// (computed anyway); without, the loop's certified rounding
+/// Writes `[a,b,...]`, each item by `item`.
+fn array<T>(out: &mut Vec<u8>, items: &[T], mut item: impl FnMut(&mut Vec<u8>, &T)) {
+    out.push(b'[');
+    for (i, x) in items.iter().enumerate() {
+        if i > 0 {
+            out.push(b',');
+        }
+        item(out, x);
+    }
+    out.push(b']');
+}
+
+/// Writes `,"key":` (`"key":` when `first`).
+fn key(out: &mut Vec<u8>, key: &str, first: bool) {
+    if !first {
+        out.push(b',');
+    }
+    plain_string(out, key);
+    out.push(b':');
+}
+
+/// Writes one loop. With exact output, `area` is the nearest double of
+/// `area_exact` (computed anyway); without, the loop's certified rounding
 /// ([`Loop::area_approx`]: of the exact sign, within a few ulps of the
 /// largest shoelace partial sum per point), so the exact area is never
 /// computed.
-fn json_loop(l: &Loop, ex: Exactness) -> JsonLoop {
-    let with = ex == Exactness::WithExact;
-    let exact_area = with.then(|| l.area());
-    JsonLoop {
-        points: l.points.iter().map(LoopPoint::to_f64).collect(),
-        exact: with.then(|| l.points.iter().map(|p| exact_xy(&p.exact())).collect()),
-        on: with.then(|| {
-            l.cuts
-                .iter()
-                .map(|c| match c {
-                    CutPoint::OnEdge(e) => On::Edge(e.0),
-                    CutPoint::AtVertex(v) => On::Vertex(v.0),
-                })
-                .collect()
-        }),
-        area: exact_area.as_ref().map_or(l.area_approx, rat_to_f64),
-        area_exact: exact_area.as_ref().map(rat_to_string),
-        role: l.role,
-        parent: l.parent,
+fn json_loop(out: &mut Vec<u8>, l: &Loop, ex: Exactness) {
+    out.push(b'{');
+    key(out, "points", true);
+    array(out, &l.points, |o, p| pair(o, p.to_f64()));
+    let exact_area = (ex == Exactness::WithExact).then(|| l.area());
+    if ex == Exactness::WithExact {
+        key(out, "exact", false);
+        array(out, &l.points, |o, p| {
+            let p = p.exact();
+            o.push(b'[');
+            plain_string(o, &rat_to_string(&p.x));
+            o.push(b',');
+            plain_string(o, &rat_to_string(&p.y));
+            o.push(b']');
+        });
+        key(out, "on", false);
+        array(out, &l.cuts, |o, c| {
+            let (kind, id) = match c {
+                CutPoint::OnEdge(e) => ("edge", e.0),
+                CutPoint::AtVertex(v) => ("vertex", v.0),
+            };
+            o.push(b'{');
+            key(o, kind, true);
+            integer(o, id.into());
+            o.push(b'}');
+        });
     }
+    key(out, "area", false);
+    number(out, exact_area.as_ref().map_or(l.area_approx, rat_to_f64));
+    if let Some(a) = &exact_area {
+        key(out, "area_exact", false);
+        plain_string(out, &rat_to_string(a));
+    }
+    key(out, "role", false);
+    name(out, &l.role);
+    key(out, "parent", false);
+    match l.parent {
+        Some(p) => integer(out, p as u64),
+        None => out.extend_from_slice(b"null"),
+    }
+    out.push(b'}');
 }
 
-/// Writes `,"key":`.
-fn key(out: &mut Vec<u8>, key: &str) {
-    out.extend_from_slice(b",\"");
-    out.extend_from_slice(key.as_bytes());
-    out.extend_from_slice(b"\":");
-}
-
-/// Writes `,"key":value`.
-fn field<T: Serialize>(out: &mut Vec<u8>, name: &str, value: &T) -> serde_json::Result<()> {
-    key(out, name);
-    serde_json::to_writer(&mut *out, value)
+/// Writes a family of loops.
+fn loops(out: &mut Vec<u8>, family: &[Loop], ex: Exactness) {
+    array(out, family, |o, l| json_loop(o, l, ex));
 }
 
 /// One level's JSON text, as [`JsonWriter::level`] writes it: an object
-/// with the keys of SPEC section 9 in order. L- and L+ that are S_O's loops
-/// (no vertex on the plane) repeat its text instead of formatting every
-/// point again.
-pub fn level_text(ls: &LevelSet, ex: Exactness) -> serde_json::Result<Vec<u8>> {
-    let loops = |v: &[Loop]| -> Vec<JsonLoop> { v.iter().map(|l| json_loop(l, ex)).collect() };
+/// with the keys of SPEC section 9 in order, numbers formatted as
+/// `serde_json` formats them.
+pub fn level_text(ls: &LevelSet, ex: Exactness) -> LevelText {
     // About 40 bytes a rounded point: room for S_O once.
     let points: usize = ls.contours.iter().map(|l| l.points.len()).sum();
-    let mut out = Vec::with_capacity(64 + 40 * points);
-    out.extend_from_slice(b"{\"z\":");
-    serde_json::to_writer(&mut out, &rat_to_string(&ls.level))?;
-    let start = out.len() + b",\"contours\":".len();
-    field(&mut out, "contours", &loops(&ls.contours))?;
+    let mut t = LevelText {
+        bytes: Vec::with_capacity(256 + 40 * points),
+        ..LevelText::default()
+    };
+    let out = &mut t.bytes;
+    out.push(b'{');
+    key(out, "z", true);
+    plain_string(out, &rat_to_string(&ls.level));
+    key(out, "contours", false);
+    let start = out.len();
+    loops(out, &ls.contours, ex);
     let contours = start..out.len();
-    let regions: Vec<JsonRegion> = ls
-        .regions
-        .iter()
-        .map(|r| JsonRegion {
-            facing: r.facing,
-            faces: r.faces.iter().map(|f| f.0).collect(),
-            area: rat_to_string(&r.area),
-            boundary: loops(&r.boundary),
-        })
-        .collect();
-    field(&mut out, "faces", &regions)?;
-    let ridges: Vec<JsonRidge> = ls
-        .ridges
-        .iter()
-        .map(|r| JsonRidge {
-            kind: r.kind,
-            closed: r.closed,
-            vertices: r.vertices.iter().map(|v| v.0).collect(),
-            points: r.points.iter().map(Point2::to_f64).collect(),
-        })
-        .collect();
-    field(&mut out, "ridges", &ridges)?;
-    let extrema: Vec<JsonPoint> = ls
-        .extrema
-        .iter()
-        .map(|p| JsonPoint {
-            vertex: p.vertex.0,
-            kind: p.kind,
-            point: p.point.to_f64(),
-        })
-        .collect();
-    field(&mut out, "points", &extrema)?;
-    let saddles: Vec<JsonSaddle> = ls
-        .saddles
-        .iter()
-        .map(|s| JsonSaddle {
-            vertex: s.vertex.0,
-            branches: s.branches,
-        })
-        .collect();
-    field(&mut out, "saddles", &saddles)?;
+    key(out, "faces", false);
+    array(out, &ls.regions, |o, r| {
+        o.push(b'{');
+        key(o, "facing", true);
+        name(o, &r.facing);
+        key(o, "faces", false);
+        array(o, &r.faces, |o, f| integer(o, f.0.into()));
+        key(o, "area", false);
+        plain_string(o, &rat_to_string(&r.area));
+        key(o, "boundary", false);
+        loops(o, &r.boundary, ex);
+        o.push(b'}');
+    });
+    key(out, "ridges", false);
+    array(out, &ls.ridges, |o, r| {
+        o.push(b'{');
+        key(o, "kind", true);
+        name(o, &r.kind);
+        key(o, "closed", false);
+        o.extend_from_slice(if r.closed { b"true" } else { b"false" });
+        key(o, "vertices", false);
+        array(o, &r.vertices, |o, v| integer(o, v.0.into()));
+        key(o, "points", false);
+        array(o, &r.points, |o, p| pair(o, p.to_f64()));
+        o.push(b'}');
+    });
+    key(out, "points", false);
+    array(out, &ls.extrema, |o, p| {
+        o.push(b'{');
+        key(o, "vertex", true);
+        integer(o, p.vertex.0.into());
+        key(o, "kind", false);
+        name(o, &p.kind);
+        key(o, "point", false);
+        pair(o, p.point.to_f64());
+        o.push(b'}');
+    });
+    key(out, "saddles", false);
+    array(out, &ls.saddles, |o, s| {
+        o.push(b'{');
+        key(o, "vertex", true);
+        integer(o, s.vertex.0.into());
+        key(o, "branches", false);
+        integer(o, s.branches.into());
+        o.push(b'}');
+    });
     for (name, family) in [("below", &ls.below), ("above", &ls.above)] {
+        key(&mut t.bytes, name, false);
         if Arc::ptr_eq(family, &ls.contours) {
-            key(&mut out, name);
-            out.extend_from_within(contours.clone());
+            t.repeat(contours.clone());
         } else {
-            field(&mut out, name, &loops(family))?;
+            loops(&mut t.bytes, family, ex);
         }
     }
-    out.push(b'}');
-    Ok(out)
+    t.bytes.push(b'}');
+    t.close();
+    t
 }
 
 /// Writes one `wmslice-levelset` document level by level, so memory does
@@ -257,16 +329,16 @@ impl<W: Write> JsonWriter<W> {
 
     /// Writes one level.
     pub fn level(&mut self, ls: &LevelSet) -> std::io::Result<()> {
-        self.level_text(&level_text(ls, self.ex)?)
+        self.level_text(&level_text(ls, self.ex))
     }
 
     /// Writes one level's text, made by [`level_text`] (possibly on another
     /// thread) with this writer's exactness.
-    pub fn level_text(&mut self, text: &[u8]) -> std::io::Result<()> {
+    pub fn level_text(&mut self, text: &LevelText) -> std::io::Result<()> {
         if self.count > 0 {
             self.out.write_all(b",\n")?;
         }
-        self.out.write_all(text)?;
+        text.write_to(&mut self.out)?;
         self.count += 1;
         Ok(())
     }
@@ -289,4 +361,188 @@ pub fn to_json(header: &MeshHeader, levels: &[LevelSet], ex: Exactness) -> Strin
     };
     // Writing plain data with string keys into memory cannot fail.
     String::from_utf8(write().unwrap_or_default()).unwrap_or_default()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::classify::{ExtremumKind, Facing, RidgeKind};
+    use crate::exact::Point2;
+    use crate::levelset::Slicer;
+    use crate::nest::Role;
+
+    // The level's text as `serde` derives it: the reference the hand-written
+    // text must equal byte for byte.
+    #[derive(Serialize)]
+    #[serde(rename_all = "lowercase")]
+    enum On {
+        Edge(u32),
+        Vertex(u32),
+    }
+
+    #[derive(Serialize)]
+    struct RefLoop {
+        points: Vec<[f64; 2]>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        exact: Option<Vec<[String; 2]>>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        on: Option<Vec<On>>,
+        area: f64,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        area_exact: Option<String>,
+        role: Role,
+        parent: Option<usize>,
+    }
+
+    #[derive(Serialize)]
+    struct RefRegion {
+        facing: Facing,
+        faces: Vec<u32>,
+        area: String,
+        boundary: Vec<RefLoop>,
+    }
+
+    #[derive(Serialize)]
+    struct RefRidge {
+        kind: RidgeKind,
+        closed: bool,
+        vertices: Vec<u32>,
+        points: Vec<[f64; 2]>,
+    }
+
+    #[derive(Serialize)]
+    struct RefPoint {
+        vertex: u32,
+        kind: ExtremumKind,
+        point: [f64; 2],
+    }
+
+    #[derive(Serialize)]
+    struct RefSaddle {
+        vertex: u32,
+        branches: u32,
+    }
+
+    #[derive(Serialize)]
+    struct RefLevel {
+        z: String,
+        contours: Vec<RefLoop>,
+        faces: Vec<RefRegion>,
+        ridges: Vec<RefRidge>,
+        points: Vec<RefPoint>,
+        saddles: Vec<RefSaddle>,
+        below: Vec<RefLoop>,
+        above: Vec<RefLoop>,
+    }
+
+    fn ref_loop(l: &Loop, ex: Exactness) -> RefLoop {
+        let with = ex == Exactness::WithExact;
+        let exact_area = with.then(|| l.area());
+        RefLoop {
+            points: l.points.iter().map(|p| p.to_f64()).collect(),
+            exact: with.then(|| {
+                l.points
+                    .iter()
+                    .map(|p| {
+                        let p = p.exact();
+                        [rat_to_string(&p.x), rat_to_string(&p.y)]
+                    })
+                    .collect()
+            }),
+            on: with.then(|| {
+                l.cuts
+                    .iter()
+                    .map(|c| match c {
+                        CutPoint::OnEdge(e) => On::Edge(e.0),
+                        CutPoint::AtVertex(v) => On::Vertex(v.0),
+                    })
+                    .collect()
+            }),
+            area: exact_area.as_ref().map_or(l.area_approx, rat_to_f64),
+            area_exact: exact_area.as_ref().map(rat_to_string),
+            role: l.role,
+            parent: l.parent,
+        }
+    }
+
+    fn reference(ls: &LevelSet, ex: Exactness) -> Vec<u8> {
+        let loops = |v: &[Loop]| v.iter().map(|l| ref_loop(l, ex)).collect();
+        let level = RefLevel {
+            z: rat_to_string(&ls.level),
+            contours: loops(&ls.contours),
+            faces: ls
+                .regions
+                .iter()
+                .map(|r| RefRegion {
+                    facing: r.facing,
+                    faces: r.faces.iter().map(|f| f.0).collect(),
+                    area: rat_to_string(&r.area),
+                    boundary: loops(&r.boundary),
+                })
+                .collect(),
+            ridges: ls
+                .ridges
+                .iter()
+                .map(|r| RefRidge {
+                    kind: r.kind,
+                    closed: r.closed,
+                    vertices: r.vertices.iter().map(|v| v.0).collect(),
+                    points: r.points.iter().map(Point2::to_f64).collect(),
+                })
+                .collect(),
+            points: ls
+                .extrema
+                .iter()
+                .map(|p| RefPoint {
+                    vertex: p.vertex.0,
+                    kind: p.kind,
+                    point: p.point.to_f64(),
+                })
+                .collect(),
+            saddles: ls
+                .saddles
+                .iter()
+                .map(|s| RefSaddle {
+                    vertex: s.vertex.0,
+                    branches: s.branches,
+                })
+                .collect(),
+            below: loops(&ls.below),
+            above: loops(&ls.above),
+        };
+        serde_json::to_vec(&level).unwrap()
+    }
+
+    /// Every dataset at its degenerate levels and between them (flats,
+    /// ridges, extrema, saddles, L- and L+ apart from S_O and equal to
+    /// it), in both exactness modes: the written text equals `serde`'s.
+    #[test]
+    fn level_text_equals_serde_serialization() {
+        let mut compared = 0;
+        for d in crate::datasets::all() {
+            let mesh = d.build();
+            let slicer = Slicer::new(&mesh).unwrap();
+            for &(p, q) in d.degenerate_levels {
+                for shift in [Rat::new(0.into(), 1.into()), Rat::new(1.into(), 7.into())] {
+                    let c = Rat::new(p.into(), q.into()) + shift;
+                    let ls = slicer.slice_at(&c).unwrap();
+                    for ex in [Exactness::Rounded, Exactness::WithExact] {
+                        let text = level_text(&ls, ex);
+                        assert_eq!(
+                            String::from_utf8(text.to_bytes()).unwrap(),
+                            String::from_utf8(reference(&ls, ex)).unwrap(),
+                            "{} at {}",
+                            d.name,
+                            rat_to_string(&c)
+                        );
+                        let mut written = Vec::new();
+                        text.write_to(&mut written).unwrap();
+                        assert_eq!(written, text.to_bytes());
+                        compared += 1;
+                    }
+                }
+            }
+        }
+        assert!(compared > 50);
+    }
 }
