@@ -19,6 +19,8 @@ use crate::exact::rational::Rat;
 use crate::exact::{Level, Sign};
 use crate::ids::FaceId;
 use crate::levelset::{LevelSet, SliceError, Slicer};
+use crate::par;
+use rayon::prelude::*;
 use std::sync::mpsc::{sync_channel, Receiver};
 
 /// Results each worker may compute ahead of the writer.
@@ -60,28 +62,73 @@ struct Entry {
 /// levels, touch no level and are left out at once.
 struct Heights {
     grid: Vec<Level>,
-    entering: Vec<Vec<Entry>>,
+    /// The faces filed under each level, level after level, each level's
+    /// ascending by face.
+    entries: Vec<Entry>,
+    /// Level `i`'s faces are `entries[start[i]..start[i + 1]]`.
+    start: Vec<usize>,
 }
 
 impl Heights {
-    fn new(slicer: &Slicer<'_>, levels: &[Rat]) -> Self {
+    /// Files the faces in parallel (on the current rayon pool) when
+    /// `parallel`, else on this thread; the same result either way.
+    fn new(slicer: &Slicer<'_>, levels: &[Rat], parallel: bool) -> Self {
         let mesh = slicer.mesh();
         let grid: Vec<Level> = levels.iter().map(|c| slicer.grid_level(c)).collect();
         let brackets: Vec<Bracket> = grid.iter().map(Level::bracket).collect();
         let approx: Vec<f64> = grid.iter().map(Level::approx).collect();
-        let mut entering = vec![Vec::new(); grid.len()];
-        for (f, tri) in mesh.faces.iter().enumerate() {
-            let z = tri.map(|v| mesh.positions[v.idx()][2]);
+        let file = |f: usize| {
+            let z = mesh.faces[f].map(|v| mesh.positions[v.idx()][2]);
             let (lo, hi) = (z[0].min(z[1]).min(z[2]), z[0].max(z[1]).max(z[2]));
             let first = first_level_at_or_above(&brackets, &approx, lo);
-            if first < grid.len() && brackets[first].sign_of(hi) != Sign::Negative {
-                entering[first].push(Entry {
+            (first < grid.len() && brackets[first].sign_of(hi) != Sign::Negative).then(|| {
+                let entry = Entry {
                     face: FaceId::from_idx(f),
                     top: hi,
-                });
-            }
+                };
+                (first, entry)
+            })
+        };
+        let filed: Vec<(usize, Entry)> = if parallel {
+            (0..mesh.num_faces())
+                .into_par_iter()
+                .with_min_len(par::MIN_LEN)
+                .filter_map(file)
+                .collect()
+        } else {
+            (0..mesh.num_faces()).filter_map(file).collect()
+        };
+        // A counting sort by level keeps each level's faces ascending.
+        let mut start = vec![0; grid.len() + 1];
+        for &(level, _) in &filed {
+            start[level + 1] += 1;
         }
-        Heights { grid, entering }
+        for i in 0..grid.len() {
+            start[i + 1] += start[i];
+        }
+        let mut at = start.clone();
+        let mut entries = vec![
+            Entry {
+                face: FaceId(0),
+                top: 0.0
+            };
+            filed.len()
+        ];
+        for (level, entry) in filed {
+            entries[at[level]] = entry;
+            at[level] += 1;
+        }
+        Heights {
+            grid,
+            entries,
+            start,
+        }
+    }
+
+    /// The faces filed under levels `levels` (ascending by face within
+    /// each level).
+    fn filed(&self, levels: std::ops::RangeInclusive<usize>) -> &[Entry] {
+        &self.entries[self.start[*levels.start()]..self.start[*levels.end() + 1]]
     }
 }
 
@@ -145,9 +192,9 @@ impl<'h> Sweep<'h> {
         let level = h.grid[index].bracket();
         let touching = |e: &Entry| level.sign_of(e.top) != Sign::Negative;
         self.active.retain(touching);
-        let mut entering: Vec<Entry> = h.entering[self.next.min(index + 1)..=index]
+        let mut entering: Vec<Entry> = h
+            .filed(self.next.min(index + 1)..=index)
             .iter()
-            .flatten()
             .copied()
             .filter(touching)
             .collect();
@@ -222,19 +269,20 @@ where
     S: FnMut(usize, T) -> Result<(), E>,
 {
     let threads = threads.clamp(1, levels.len().max(1));
-    let heights = Heights::new(slicer, levels);
-    let worker = |t: usize, tx: std::sync::mpsc::SyncSender<Result<T, SliceError>>| {
-        let mut sweep = Sweep::new(&heights);
-        for (index, c) in levels.iter().enumerate().skip(t).step_by(threads) {
-            let result = sweep.slice(slicer, index, c).map(|ls| finish(index, ls));
-            let failed = result.is_err();
-            if tx.send(result).is_err() || failed {
-                return;
+    let worker =
+        |heights: &Heights, t: usize, tx: std::sync::mpsc::SyncSender<Result<T, SliceError>>| {
+            let mut sweep = Sweep::new(heights);
+            for (index, c) in levels.iter().enumerate().skip(t).step_by(threads) {
+                let result = sweep.slice(slicer, index, c).map(|ls| finish(index, ls));
+                let failed = result.is_err();
+                if tx.send(result).is_err() || failed {
+                    return;
+                }
             }
-        }
-    };
+        };
     if threads == 1 {
         // The same sweep on the caller's thread.
+        let heights = Heights::new(slicer, levels, false);
         let mut sweep = Sweep::new(&heights);
         for (index, c) in levels.iter().enumerate() {
             let ls = sweep
@@ -248,13 +296,14 @@ where
         .num_threads(threads)
         .build()
         .map_err(|e| SweepError::Threads(e.to_string()))?;
+    let heights = pool.install(|| Heights::new(slicer, levels, true));
     pool.in_place_scope(|scope| {
         let mut receivers: Vec<Receiver<Result<T, SliceError>>> = Vec::with_capacity(threads);
         for t in 0..threads {
             let (tx, rx) = sync_channel(AHEAD);
             receivers.push(rx);
-            let worker = &worker;
-            scope.spawn(move |_| worker(t, tx));
+            let (worker, heights) = (&worker, &heights);
+            scope.spawn(move |_| worker(heights, t, tx));
         }
         let mut outcome = Ok(());
         for index in 0..levels.len() {

@@ -200,12 +200,17 @@ impl<'m> Slicer<'m> {
     /// on the grid `unit` (a snapped mesh): the true coordinate is
     /// `stored * unit`, exactly.
     pub fn with_unit(mesh: &'m Mesh, unit: Rat) -> Result<Self, SliceError> {
-        let mut report = validate(mesh);
+        // The grid (a pass over the coordinates) beside validation.
+        let parallel = mesh.num_faces() >= crate::par::MIN_LEN;
+        let (mut report, grid) = crate::par::join(
+            parallel,
+            || validate(mesh),
+            || MeshGrid::new(&mesh.positions),
+        );
         if !report.is_accepted() {
             return Err(SliceError::InvalidMesh(Box::new(report)));
         }
         let topo = report.topology.take().unwrap_or_default();
-        let grid = MeshGrid::new(&mesh.positions);
         Ok(Slicer {
             mesh,
             topo,
