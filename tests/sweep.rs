@@ -68,3 +68,32 @@ proptest! {
         assert_sweep_equals_single(&s.mesh(), "slab");
     }
 }
+
+/// A sink that refuses a level stops the sweep with its error, having
+/// seen exactly the levels before it, in order: workers waiting for room
+/// or to send are released (the test would hang otherwise), whatever the
+/// thread count.
+#[test]
+fn a_refusing_sink_stops_the_sweep() {
+    let mesh = datasets::by_name("double_torus").unwrap().build();
+    let slicer = Slicer::new(&mesh).unwrap();
+    let levels: Vec<Rat> = (0..200).map(|k| Rat::new(k.into(), 50.into())).collect();
+    for threads in [1, 2, 3, 8] {
+        for stop in [0, 1, 37, 199] {
+            let mut seen = Vec::new();
+            let r = slice_levels(&slicer, &levels, threads, |i, _| {
+                seen.push(i);
+                if i == stop {
+                    Err(std::io::Error::other("full"))
+                } else {
+                    Ok(())
+                }
+            });
+            assert!(
+                matches!(r, Err(wmslice::layers::SweepError::Sink(ref e)) if e.to_string() == "full"),
+                "{threads} threads, stop at {stop}: {r:?}"
+            );
+            assert_eq!(seen, (0..=stop).collect::<Vec<_>>());
+        }
+    }
+}

@@ -7,11 +7,13 @@
 //! confirmed exactly, else binary search; no sort of the faces), enters
 //! the active set at that level and leaves when the plane passes its
 //! highest one, so each level visits only the faces that touch it; faces
-//! that touch no level are dropped when filed. Level `i` is computed by
-//! worker `i mod T`, each worker sweeping its own levels upward and
-//! sending results through a bounded channel; the caller's thread takes
-//! them in order. Memory is bounded by the
-//! channels, not by the number of levels, and every level is computed from
+//! that touch no level are dropped when filed. With T workers each takes
+//! the next level no one has taken yet (so a slow level, e.g. one on many
+//! flat faces, holds up no one else's), sweeps its own levels upward and
+//! sends results through a bounded channel; the caller's thread hands
+//! them on in level order. At most a few levels per worker are taken
+//! ahead of the last one handed on, so memory is bounded by that window,
+//! not by the number of levels, and every level is computed from
 //! the same sorted active faces, so the output does not depend on `T`.
 
 use crate::exact::level::Bracket;
@@ -21,10 +23,12 @@ use crate::ids::FaceId;
 use crate::levelset::{LevelSet, SliceError, Slicer};
 use crate::par;
 use rayon::prelude::*;
-use std::sync::mpsc::{sync_channel, Receiver};
+use std::collections::HashMap;
+use std::sync::mpsc::{sync_channel, SyncSender};
+use std::sync::{Condvar, Mutex};
 
 /// Results each worker may compute ahead of the writer.
-const AHEAD: usize = 4;
+const AHEAD: usize = 8;
 
 /// Why a sweep stopped.
 #[derive(Debug, thiserror::Error)]
@@ -269,17 +273,6 @@ where
     S: FnMut(usize, T) -> Result<(), E>,
 {
     let threads = threads.clamp(1, levels.len().max(1));
-    let worker =
-        |heights: &Heights, t: usize, tx: std::sync::mpsc::SyncSender<Result<T, SliceError>>| {
-            let mut sweep = Sweep::new(heights);
-            for (index, c) in levels.iter().enumerate().skip(t).step_by(threads) {
-                let result = sweep.slice(slicer, index, c).map(|ls| finish(index, ls));
-                let failed = result.is_err();
-                if tx.send(result).is_err() || failed {
-                    return;
-                }
-            }
-        };
     if threads == 1 {
         // The same sweep on the caller's thread.
         let heights = Heights::new(slicer, levels, false);
@@ -297,31 +290,120 @@ where
         .build()
         .map_err(|e| SweepError::Threads(e.to_string()))?;
     let heights = pool.install(|| Heights::new(slicer, levels, true));
-    pool.in_place_scope(|scope| {
-        let mut receivers: Vec<Receiver<Result<T, SliceError>>> = Vec::with_capacity(threads);
-        for t in 0..threads {
-            let (tx, rx) = sync_channel(AHEAD);
-            receivers.push(rx);
-            let (worker, heights) = (&worker, &heights);
-            scope.spawn(move |_| worker(heights, t, tx));
+    let window = Window::new(AHEAD * threads);
+    let (tx, rx) = sync_channel::<(usize, Result<T, SliceError>)>(AHEAD * threads);
+    let worker = |tx: SyncSender<(usize, Result<T, SliceError>)>| {
+        let mut sweep = Sweep::new(&heights);
+        while let Some(index) = window.claim(levels.len()) {
+            let result = sweep
+                .slice(slicer, index, &levels[index])
+                .map(|ls| finish(index, ls));
+            let failed = result.is_err();
+            if tx.send((index, result)).is_err() || failed {
+                return;
+            }
         }
+    };
+    pool.in_place_scope(|scope| {
+        for _ in 0..threads {
+            let (worker, tx) = (&worker, tx.clone());
+            scope.spawn(move |_| worker(tx));
+        }
+        drop(tx);
+        // Results arrive in any order; they are handed on in level order.
+        let mut early: HashMap<usize, Result<T, SliceError>> = HashMap::new();
         let mut outcome = Ok(());
         for index in 0..levels.len() {
-            let received = receivers[index % threads].recv();
-            let step = match received {
-                Ok(Ok(done)) => sink(index, done).map_err(SweepError::Sink),
-                Ok(Err(source)) => Err(SweepError::Slice { index, source }),
-                Err(_) => Err(SweepError::Threads("a worker stopped early".into())),
+            let result = loop {
+                if let Some(r) = early.remove(&index) {
+                    break Some(r);
+                }
+                match rx.recv() {
+                    Ok((i, r)) if i == index => break Some(r),
+                    Ok((i, r)) => {
+                        early.insert(i, r);
+                    }
+                    Err(_) => break None,
+                }
+            };
+            let step = match result {
+                Some(Ok(done)) => sink(index, done).map_err(SweepError::Sink),
+                Some(Err(source)) => Err(SweepError::Slice { index, source }),
+                None => Err(SweepError::Threads("a worker stopped early".into())),
             };
             if let Err(e) = step {
                 outcome = Err(e);
                 break;
             }
+            window.handed_on(index + 1);
         }
-        // Dropping the receivers unblocks any worker still sending.
-        drop(receivers);
+        // Workers waiting for room, or to send, stop.
+        window.close();
+        drop(rx);
         outcome
     })
+}
+
+/// Which level each worker takes next: the next one not yet taken (so a
+/// slow level does not hold up the others' share), but at most `ahead`
+/// levels past the last one handed on, which bounds the results waiting
+/// to be handed on.
+struct Window {
+    state: Mutex<WindowState>,
+    room: Condvar,
+    ahead: usize,
+}
+
+struct WindowState {
+    next: usize,
+    handed_on: usize,
+    closed: bool,
+}
+
+impl Window {
+    fn new(ahead: usize) -> Self {
+        Window {
+            state: Mutex::new(WindowState {
+                next: 0,
+                handed_on: 0,
+                closed: false,
+            }),
+            room: Condvar::new(),
+            ahead: ahead.max(1),
+        }
+    }
+
+    /// The next level to slice (below `len`), once there is room for it;
+    /// `None` when all are taken or the window is closed.
+    fn claim(&self, len: usize) -> Option<usize> {
+        let mut s = self.state.lock().ok()?;
+        loop {
+            if s.closed || s.next >= len {
+                return None;
+            }
+            if s.next < s.handed_on + self.ahead {
+                s.next += 1;
+                return Some(s.next - 1);
+            }
+            s = self.room.wait(s).ok()?;
+        }
+    }
+
+    /// Levels below `count` have been handed on.
+    fn handed_on(&self, count: usize) {
+        if let Ok(mut s) = self.state.lock() {
+            s.handed_on = count;
+        }
+        self.room.notify_all();
+    }
+
+    /// No more levels are taken.
+    fn close(&self) {
+        if let Ok(mut s) = self.state.lock() {
+            s.closed = true;
+        }
+        self.room.notify_all();
+    }
 }
 
 #[cfg(test)]
