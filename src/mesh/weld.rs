@@ -16,6 +16,7 @@ use rayon::prelude::*;
 
 use super::Mesh;
 use crate::ids::VertexId;
+use crate::par;
 
 /// The largest number of vertices (and of faces) a mesh may have.
 pub const MAX_ELEMENTS: usize = (u32::MAX - 1) as usize;
@@ -82,9 +83,9 @@ pub fn try_weld_exact(triangles: &[[[f64; 3]; 3]]) -> Result<Welded, WeldError> 
 /// Large inputs are welded in parallel on the caller's rayon pool: each
 /// run of consecutive triangles on its own (corners of nearby triangles
 /// are mostly the same vertices, so each table stays hot in cache), then
-/// the runs' vertices are looked up in order in the first run's table,
-/// which numbers them in first-seen order. The result does not depend on
-/// the number of threads.
+/// each run's vertices are looked up in the earlier runs' tables (in
+/// parallel) and numbered in first-seen order. The result does not
+/// depend on the number of threads.
 pub fn weld_corners(
     n: usize,
     corner: impl Fn(usize) -> [f64; 3] + Sync,
@@ -166,8 +167,8 @@ impl Run {
     }
 }
 
-/// Welds in `runs` runs of consecutive triangles, in parallel, then merges
-/// them in order into the first.
+/// Welds in `runs` runs of consecutive triangles, in parallel, then numbers
+/// the runs' vertices in order.
 fn weld_in_runs(
     n: usize,
     corner: &(impl Fn(usize) -> [f64; 3] + Sync),
@@ -180,42 +181,100 @@ fn weld_in_runs(
         .map(|s| s..(s + per_run).min(3 * n))
         .collect();
     // A closed mesh has about half as many vertices as faces, a sixth of
-    // its corners; the first run takes in all of them.
-    let weld = |(k, r): (usize, std::ops::Range<usize>)| {
-        let room = if k == 0 { n / 2 } else { r.len() / 5 };
-        weld_run(r, room + 4, corner, &hasher)
-    };
+    // its corners.
+    let weld = |r: std::ops::Range<usize>| weld_run(r.clone(), r.len() / 5 + 4, corner, &hasher);
     // One run stays on this thread (no hand-over to the pool).
     let parts: Result<Vec<Run>, WeldError> = if ranges.len() > 1 {
-        ranges.into_par_iter().enumerate().map(weld).collect()
+        ranges.into_par_iter().map(weld).collect()
     } else {
-        ranges.into_iter().enumerate().map(weld).collect()
+        ranges.into_iter().map(weld).collect()
     };
-    let mut parts = parts?.into_iter();
-    let mut all = match parts.next() {
-        Some(first) => first,
-        None => weld_run(0..0, 0, corner, &hasher)?,
-    };
-    for part in parts {
-        let global: Vec<u32> = part
-            .positions
-            .into_iter()
-            .map(|p| all.id_of(p, &hasher))
-            .collect::<Result<_, _>>()?;
-        all.ids.extend(part.ids.iter().map(|&l| global[l as usize]));
-    }
-    let faces: Vec<[VertexId; 3]> = all
-        .ids
-        .chunks_exact(3)
-        .map(|c| [VertexId(c[0]), VertexId(c[1]), VertexId(c[2])])
+    let parts = parts?;
+    // Each later run's vertices looked up in the earlier runs' tables (in
+    // parallel: the tables are only read), then numbered in order: a
+    // vertex takes the id it has in the first run holding it, and one no
+    // earlier run holds takes the next new id. That is the first-seen
+    // order of a weld in one run.
+    let found: Vec<Vec<Option<(u32, u32)>>> = parts
+        .iter()
+        .skip(1)
+        .enumerate()
+        .map(|(k, part)| {
+            let earlier = &parts[..=k];
+            let look = |p: &[f64; 3]| {
+                let key = corner_key(p)?;
+                let hash = hasher.hash_one(key);
+                earlier.iter().enumerate().find_map(|(j, run)| {
+                    let id = run
+                        .index
+                        .find(hash, |&id| kept_key(&run.positions, id) == key)?;
+                    Some((j as u32, *id))
+                })
+            };
+            if part.positions.len() >= par::MIN_LEN {
+                part.positions
+                    .par_iter()
+                    .with_min_len(par::MIN_LEN)
+                    .map(look)
+                    .collect()
+            } else {
+                part.positions.iter().map(look).collect()
+            }
+        })
         .collect();
+    let runs = parts.len();
+    let mut parts = parts.into_iter();
+    let Some(first) = parts.next() else {
+        return Ok(Welded {
+            vertices: 0,
+            corners: 0,
+            mesh: Mesh::default(),
+        });
+    };
+    let mut global: Vec<Vec<u32>> = vec![(0..first.positions.len() as u32).collect()];
+    let mut local: Vec<Vec<u32>> = vec![first.ids];
+    let mut positions = first.positions;
+    for (part, found) in parts.zip(&found) {
+        let mut ids = Vec::with_capacity(found.len());
+        for (p, f) in part.positions.iter().zip(found) {
+            ids.push(match *f {
+                Some((j, id)) => global[j as usize][id as usize],
+                None => {
+                    let id = u32::try_from(positions.len())
+                        .ok()
+                        .filter(|&id| (id as usize) < MAX_ELEMENTS)
+                        .ok_or(TOO_MANY_VERTICES)?;
+                    positions.push(*p);
+                    id
+                }
+            });
+        }
+        global.push(ids);
+        local.push(part.ids);
+    }
+    // Corner ids through each run's numbering, run by run in parallel.
+    let mut faces = vec![[VertexId(0); 3]; n];
+    let mut rest = &mut faces[..];
+    let mut pieces = Vec::with_capacity(runs);
+    for (local, ids) in local.iter().zip(&global) {
+        let (mine, more) = rest.split_at_mut(local.len() / 3);
+        pieces.push((mine, local, ids));
+        rest = more;
+    }
+    let fill = |(faces, local, ids): (&mut [[VertexId; 3]], &Vec<u32>, &Vec<u32>)| {
+        for (f, c) in faces.iter_mut().zip(local.chunks_exact(3)) {
+            *f = [c[0], c[1], c[2]].map(|l| VertexId(ids[l as usize]));
+        }
+    };
+    if pieces.len() > 1 {
+        pieces.into_par_iter().for_each(fill);
+    } else {
+        pieces.into_iter().for_each(fill);
+    }
     Ok(Welded {
-        vertices: all.positions.len(),
-        corners: all.ids.len(),
-        mesh: Mesh {
-            positions: all.positions,
-            faces,
-        },
+        vertices: positions.len(),
+        corners: 3 * n,
+        mesh: Mesh { positions, faces },
     })
 }
 
@@ -303,7 +362,12 @@ mod tests {
     /// search on 20000 triangles over a few hundred distinct corners.
     #[test]
     fn sharded_weld_over_many_blocks_agrees_with_linear_search() {
-        let values = [0.0, -0.0, 1.0, 0.1, f64::NAN, -3.5, 7.25];
+        // Enough distinct corners that each run looks its vertices up in
+        // parallel, and enough repeats that runs share many.
+        let values: Vec<f64> = (0..40)
+            .map(|k| f64::from(k) * 0.1)
+            .chain([-0.0, f64::NAN])
+            .collect();
         let mut state = 12345u64;
         let mut pick = || {
             state = state
@@ -327,6 +391,7 @@ mod tests {
             .unwrap();
         let w = pool.install(|| weld_exact(&soup));
         let (positions, faces) = weld_by_search(&soup);
+        assert!(positions.len() > 3 * par::MIN_LEN);
         assert_eq!(w.mesh.faces, faces);
         assert_eq!(w.mesh.positions.len(), positions.len());
     }
