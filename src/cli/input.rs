@@ -28,7 +28,7 @@ pub fn load_input(spec: &str, snap_arg: Option<&str>) -> Result<Input, Failure> 
     let mut notes = Vec::new();
     let mut file_bytes = Vec::new();
     let mesh = if path.exists() {
-        file_bytes = std::fs::read(path)
+        file_bytes = wmslice::mesh::io::read_file(path)
             .map_err(|e| anyhow!("cannot read {spec}: {e}"))
             .tag(ExitCode::Input)?;
         let hint = path

@@ -31,6 +31,7 @@ mod stl;
 mod text;
 mod threemf;
 
+use rayon::prelude::*;
 use std::fmt;
 use std::io::{self, BufWriter, Write};
 use std::path::Path;
@@ -245,7 +246,7 @@ pub struct SaveOptions {
 pub fn load(path: &Path) -> Result<(Mesh, LoadReport), LoadError> {
     let ext = path.extension().and_then(|e| e.to_str());
     let hint = ext.and_then(MeshFormat::from_extension);
-    let bytes = std::fs::read(path).map_err(|source| LoadError::Io {
+    let bytes = read_file(path).map_err(|source| LoadError::Io {
         path: path.to_path_buf(),
         source,
     })?;
@@ -258,6 +259,35 @@ pub fn load(path: &Path) -> Result<(Mesh, LoadReport), LoadError> {
             load_bytes(&bytes, Some(format))
         }
     }
+}
+
+/// The bytes of a file, as `std::fs::read` gives them. A large file is read
+/// in pieces in parallel on the current rayon pool: reading a file the
+/// system has cached is mostly copying, and two cores copy faster than
+/// one. Its length is only a guess for where the pieces go: a file that
+/// grows is read to its end, and one that shrinks is read again whole.
+pub fn read_file(path: &Path) -> std::io::Result<Vec<u8>> {
+    #[cfg(unix)]
+    {
+        use std::io::{Read, Seek, SeekFrom};
+        use std::os::unix::fs::FileExt;
+        const PIECE: usize = 4 << 20;
+        let mut file = std::fs::File::open(path)?;
+        let len = usize::try_from(file.metadata()?.len()).unwrap_or(0);
+        if len >= 2 * PIECE && rayon::current_num_threads() > 1 {
+            let mut bytes = vec![0u8; len];
+            let read = bytes
+                .par_chunks_mut(PIECE)
+                .enumerate()
+                .try_for_each(|(k, piece)| file.read_exact_at(piece, (k * PIECE) as u64));
+            if read.is_ok() {
+                file.seek(SeekFrom::Start(len as u64))?;
+                file.read_to_end(&mut bytes)?;
+                return Ok(bytes);
+            }
+        }
+    }
+    std::fs::read(path)
 }
 
 /// Reads a mesh from bytes. `hint` picks the family (the encoding within it,
@@ -443,4 +473,27 @@ fn corners(mesh: &Mesh, tri: &[VertexId; 3]) -> [[f64; 3]; 3] {
             .unwrap_or([f64::NAN; 3])
     };
     [p(tri[0]), p(tri[1]), p(tri[2])]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::read_file;
+
+    /// Small and large files (pieces in parallel, the last one short) read
+    /// back exactly.
+    #[test]
+    fn files_read_whole() {
+        let dir = tempfile::tempdir().unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        for len in [0, 10, (8 << 20) + 12_345, 20 << 20] {
+            let bytes: Vec<u8> = (0..len).map(|k| (k % 253 + k / 65_536) as u8).collect();
+            let path = dir.path().join(format!("f{len}"));
+            std::fs::write(&path, &bytes).unwrap();
+            assert!(pool.install(|| read_file(&path)).unwrap() == bytes, "{len}");
+        }
+        assert!(read_file(&dir.path().join("missing")).is_err());
+    }
 }
