@@ -170,9 +170,10 @@ pub fn rat_to_f64(r: &Rat) -> f64 {
 }
 
 /// The `f64` nearest to `n 2^e / d` (ties to even), for `d > 0`: the
-/// rounding of a point stored as integers. Integer long division to 55
-/// bits plus a sticky bit, rounded once; when the result would be
-/// subnormal or overflow (or `d >= 2^126`), through [`rat_to_f64`].
+/// rounding of a point stored as integers. Integer division to 55 or 56
+/// bits plus a sticky bit, rounded once (to odd, then by the hardware's
+/// conversion); when the result would be near the subnormal range or
+/// overflow (or `d >= 2^126`), through [`rat_to_f64`].
 /// Equal to `rat_to_f64` of the same value (property-tested).
 pub fn ratio_to_f64(n: i128, d: u128, e: i32) -> f64 {
     if n == 0 {
@@ -204,7 +205,7 @@ fn ratio_to_f64_normal(num: u128, d: u128, e: i32) -> Option<f64> {
     let bits = |v: u128| 128 - v.leading_zeros() as i32;
     // q = floor(num 2^s / d) lies in [2^54, 2^56).
     let s = 55 - (bits(num) - bits(d));
-    let (mut q, mut sticky) = if s <= 0 {
+    let (q, sticky) = if s <= 0 {
         let k = (-s) as u32;
         let high = num >> k;
         let dropped = k > 0 && num & ((1u128 << k) - 1) != 0;
@@ -226,32 +227,19 @@ fn ratio_to_f64_normal(num: u128, d: u128, e: i32) -> Option<f64> {
         }
         (q, r != 0)
     };
-    let mut exp = i64::from(e) - i64::from(s);
-    if q >= 1 << 55 {
-        sticky |= q & 1 != 0;
-        q >>= 1;
-        exp += 1;
-    }
-    // 55 bits: drop two, round half to even.
-    let rest = q & 3;
-    q >>= 2;
-    exp += 2;
-    if rest > 2 || (rest == 2 && (sticky || q & 1 == 1)) {
-        q += 1;
-        if q == 1 << 53 {
-            q >>= 1;
-            exp += 1;
-        }
-    }
-    // value = q 2^exp with 2^52 <= q < 2^53: normal when the unbiased
-    // exponent exp + 52 is in -1022..=1023.
-    let biased = exp + 52 + 1023;
-    if !(1..=2046).contains(&biased) {
+    // q has 55 or 56 bits, two or more beyond a double's 53: with the
+    // sticky bit folded into its last bit (rounding to odd), the
+    // hardware's conversion rounds once, to nearest even, exactly as the
+    // exact quotient would round. No branch on the (random) low bits.
+    let q = (q as u64) | u64::from(sticky);
+    // Rounded, q 2^exp lies in [2^(54 + exp), 2^(56 + exp)]: normal and
+    // finite, and the scale 2^exp a normal double (so the product is
+    // exact), when -1022 <= exp <= 967.
+    let exp = i64::from(e) - i64::from(s);
+    if !(-1022..=967).contains(&exp) {
         return None;
     }
-    Some(f64::from_bits(
-        ((biased as u64) << 52) | (q as u64 & ((1 << 52) - 1)),
-    ))
+    Some((q as i64 as f64) * f64::from_bits(((exp + 1023) as u64) << 52))
 }
 
 #[cfg(test)]
