@@ -1,13 +1,14 @@
 //! Input: bytes and a target path. Output: the file, written whole or not
 //! at all: a temporary file in the target directory, then a rename.
 //!
-//! On Linux the bytes go to the disk straight from an aligned buffer
-//! (`O_DIRECT`) where the file system allows it: a large output then costs
-//! no page-cache copy and no write-back work on the CPUs that slice, and
-//! the final `fsync` finds the data already on the disk. Elsewhere (or
-//! when the file system refuses direct writes) the writes are buffered,
-//! and write-back is started every few megabytes so that the `fsync`
-//! does not wait for all of it at the end.
+//! On Linux the bytes go to the disk straight from aligned buffers
+//! (`O_DIRECT`) where the file system allows it, written by a thread of
+//! their own while the next buffer fills: a large output then costs no
+//! page-cache copy, no write-back work on the CPUs that slice and no wait
+//! for the disk, and the final `fsync` finds the data already there.
+//! Elsewhere (or when the file system refuses direct writes) the writes
+//! are buffered, and write-back is started every few megabytes so that
+//! the `fsync` does not wait for all of it at the end.
 
 use std::io::Write;
 use std::path::Path;
@@ -30,8 +31,8 @@ pub struct AtomicFile {
     written: u64,
     /// Bytes already handed to the disk (see [`start_writeback`]).
     flushed: u64,
-    /// The bytes not yet written, while writes are direct.
-    direct: Option<direct::Chunk>,
+    /// The direct writer, when writes are direct.
+    direct: Option<direct::Writer>,
 }
 
 impl AtomicFile {
@@ -56,8 +57,8 @@ impl AtomicFile {
     /// Flushes and renames the file into place, readable by others like a
     /// file the user created (temporary files start owner-only).
     pub fn commit(mut self) -> std::io::Result<()> {
-        if let Some(mut chunk) = self.direct.take() {
-            chunk.finish(self.tmp.as_file(), self.written)?;
+        if let Some(w) = self.direct.take() {
+            w.finish()?;
         }
         self.tmp.flush()?;
         #[cfg(unix)]
@@ -75,18 +76,8 @@ impl AtomicFile {
 
 impl Write for AtomicFile {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        if let Some(chunk) = &mut self.direct {
-            let n = chunk.push(buf);
-            self.written += n as u64;
-            if chunk.is_full() {
-                let kept = chunk.write_full(self.tmp.as_file(), self.written)?;
-                if !kept {
-                    // The file system refused: buffered from here on.
-                    self.direct = None;
-                    self.flushed = self.written;
-                }
-            }
-            return Ok(n);
+        if let Some(w) = &mut self.direct {
+            return w.write(buf);
         }
         let n = self.tmp.write(buf)?;
         self.written += n as u64;
@@ -132,14 +123,20 @@ fn start_writeback(_: &std::fs::File, _: u64, _: u64) {}
 
 #[cfg(target_os = "linux")]
 mod direct {
-    //! Direct writes: whole chunks of whole blocks from an aligned buffer,
-    //! each at its offset; the tail (less than a block) buffered at the end.
+    //! Direct writes: whole chunks of whole blocks from aligned buffers,
+    //! each at its offset, by a writer thread while the next chunk fills;
+    //! the tail (less than a block) buffered at the end. A direct write
+    //! the file system refuses (`EINVAL`) turns direct writes off for the
+    //! file and is made again, buffered.
 
     use std::fs::File;
+    use std::io::Result;
     use std::os::fd::AsRawFd;
     use std::os::unix::fs::FileExt;
+    use std::sync::mpsc::{sync_channel, Receiver, SyncSender};
+    use std::thread::JoinHandle;
 
-    /// Alignment of buffer, offsets and lengths: 4096 covers disks with
+    /// Alignment of buffers, offsets and lengths: 4096 covers disks with
     /// 512- and 4096-byte blocks.
     const ALIGN: usize = 4096;
     /// Bytes per direct write.
@@ -153,10 +150,8 @@ mod direct {
         len: usize,
     }
 
-    /// Turns on direct writes for `file`, or `None` when the file system
-    /// does not take them.
-    pub(super) fn start(file: &File) -> Option<Chunk> {
-        set_direct(file, true).then(|| {
+    impl Chunk {
+        fn new() -> Chunk {
             let bytes = vec![0u8; CHUNK + ALIGN];
             let start = bytes.as_ptr().align_offset(ALIGN);
             Chunk {
@@ -164,7 +159,92 @@ mod direct {
                 start,
                 len: 0,
             }
+        }
+
+        fn used(&self) -> &[u8] {
+            &self.bytes[self.start..self.start + self.len]
+        }
+    }
+
+    /// What the writer thread is handed: a chunk and the file offset of
+    /// its first byte; `last` for the final, partial one.
+    struct Job {
+        chunk: Chunk,
+        at: u64,
+        last: bool,
+    }
+
+    /// The filling side: the chunk being filled, the writer thread, and
+    /// the chunks it hands back once written.
+    pub(super) struct Writer {
+        chunk: Chunk,
+        /// File offset of `chunk`'s first byte.
+        at: u64,
+        jobs: SyncSender<Job>,
+        done: Receiver<Result<Chunk>>,
+        thread: JoinHandle<()>,
+    }
+
+    /// Turns on direct writes for `file` and starts the writer thread, or
+    /// `None` when the file system does not take direct writes.
+    pub(super) fn start(file: &File) -> Option<Writer> {
+        let own = file.try_clone().ok()?;
+        if !set_direct(file, true) {
+            return None;
+        }
+        let (jobs, inbox) = sync_channel::<Job>(1);
+        let (done_tx, done) = sync_channel::<Result<Chunk>>(2);
+        // A second chunk to fill while the first is written.
+        done_tx.send(Ok(Chunk::new())).ok()?;
+        let thread = std::thread::Builder::new()
+            .name("wmslice-write".into())
+            .spawn(move || {
+                for job in inbox {
+                    let result = write_job(&own, &job).map(|()| job.chunk);
+                    let failed = result.is_err();
+                    if done_tx.send(result).is_err() || failed {
+                        return;
+                    }
+                }
+            });
+        let Ok(thread) = thread else {
+            set_direct(file, false);
+            return None;
+        };
+        Some(Writer {
+            chunk: Chunk::new(),
+            at: 0,
+            jobs,
+            done,
+            thread,
         })
+    }
+
+    /// Writes a job's bytes at its offset: whole blocks directly, the
+    /// last job's partial block buffered.
+    fn write_job(file: &File, job: &Job) -> Result<()> {
+        let bytes = job.chunk.used();
+        let whole = if job.last {
+            bytes.len() / ALIGN * ALIGN
+        } else {
+            bytes.len()
+        };
+        match file.write_all_at(&bytes[..whole], job.at) {
+            Err(e) if e.raw_os_error() == Some(libc::EINVAL) => {
+                // Refused (alignment, or the file system): buffered from
+                // here on, this chunk included.
+                if !set_direct(file, false) {
+                    return Err(e);
+                }
+                file.write_all_at(&bytes[..whole], job.at)?;
+            }
+            other => other?,
+        }
+        if whole < bytes.len() {
+            set_direct(file, false);
+            file.write_all_at(&bytes[whole..], job.at + whole as u64)?;
+        }
+        Ok(())
     }
 
     /// Sets or clears `O_DIRECT`; whether it is now as asked.
@@ -186,75 +266,69 @@ mod direct {
         }
     }
 
-    impl Chunk {
-        fn used(&self) -> &[u8] {
-            &self.bytes[self.start..self.start + self.len]
+    impl Writer {
+        /// Takes as much of `buf` as fits in the chunk; a full chunk goes
+        /// to the writer thread and the next one is filled.
+        pub(super) fn write(&mut self, buf: &[u8]) -> Result<usize> {
+            let c = &mut self.chunk;
+            let n = (CHUNK - c.len).min(buf.len());
+            let at = c.start + c.len;
+            c.bytes[at..at + n].copy_from_slice(&buf[..n]);
+            c.len += n;
+            if c.len == CHUNK {
+                let next = self.done.recv().map_err(|_| stopped())??;
+                let full = std::mem::replace(&mut self.chunk, next);
+                self.chunk.len = 0;
+                let at = self.at;
+                self.at += CHUNK as u64;
+                self.send(full, at, false)?;
+            }
+            Ok(n)
         }
 
-        /// Takes as much of `buf` as fits; how much.
-        pub(super) fn push(&mut self, buf: &[u8]) -> usize {
-            let n = (CHUNK - self.len).min(buf.len());
-            let at = self.start + self.len;
-            self.bytes[at..at + n].copy_from_slice(&buf[..n]);
-            self.len += n;
-            n
+        fn send(&self, chunk: Chunk, at: u64, last: bool) -> Result<()> {
+            self.jobs
+                .send(Job { chunk, at, last })
+                .map_err(|_| stopped())
         }
 
-        pub(super) fn is_full(&self) -> bool {
-            self.len == CHUNK
-        }
-
-        /// Writes the full chunk, which ends at `end`. `Ok(false)` when the
-        /// file system refused the direct write: the chunk was then
-        /// written buffered, direct writes are off, and the file position
-        /// is at `end`.
-        pub(super) fn write_full(&mut self, file: &File, end: u64) -> std::io::Result<bool> {
-            let at = end - self.len as u64;
-            let kept = match file.write_all_at(self.used(), at) {
-                Ok(()) => true,
-                Err(e) if e.raw_os_error() == Some(libc::EINVAL) => {
-                    self.buffered(file, at)?;
-                    false
+        /// Writes the rest and waits for every write to be done.
+        pub(super) fn finish(self) -> Result<()> {
+            let Writer {
+                chunk,
+                at,
+                jobs,
+                done,
+                thread,
+            } = self;
+            jobs.send(Job {
+                chunk,
+                at,
+                last: true,
+            })
+            .map_err(|_| stopped())?;
+            drop(jobs);
+            let mut outcome = Ok(());
+            for r in done {
+                if let Err(e) = r {
+                    outcome = Err(e);
                 }
-                Err(e) => return Err(e),
-            };
-            self.len = 0;
-            Ok(kept)
+            }
+            thread.join().map_err(|_| stopped())?;
+            outcome
         }
 
-        /// Writes what is left (the file ends at `end`): whole blocks
-        /// directly, the last partial block buffered.
-        pub(super) fn finish(&mut self, file: &File, end: u64) -> std::io::Result<()> {
-            let at = end - self.len as u64;
-            let whole = self.len / ALIGN * ALIGN;
-            let direct = &self.bytes[self.start..self.start + whole];
-            let done = whole == 0 || file.write_all_at(direct, at).is_ok();
-            let from = if done { whole } else { 0 };
-            let tail = self.start + from..self.start + self.len;
-            set_direct(file, false);
-            file.write_all_at(&self.bytes[tail], at + from as u64)?;
-            self.len = 0;
-            Ok(())
-        }
-
-        /// Moves the buffer one byte off its alignment (tests the refusal).
+        /// Moves the chunk being filled one byte off its alignment (tests
+        /// the refusal).
         #[cfg(test)]
         pub(super) fn misalign(&mut self) {
-            self.start += 1;
+            self.chunk.start += 1;
         }
+    }
 
-        /// Writes the chunk at `at` without direct writes, and leaves the
-        /// file position after it.
-        fn buffered(&self, file: &File, at: u64) -> std::io::Result<()> {
-            use std::io::{Seek, SeekFrom};
-            if !set_direct(file, false) {
-                return Err(std::io::Error::other("cannot turn off direct writes"));
-            }
-            file.write_all_at(self.used(), at)?;
-            let mut f = file;
-            f.seek(SeekFrom::Start(at + self.len as u64))?;
-            Ok(())
-        }
+    /// The writer thread ended without saying why (it panicked).
+    fn stopped() -> std::io::Error {
+        std::io::Error::other("the output writer thread stopped")
     }
 }
 
@@ -263,24 +337,18 @@ mod direct {
     //! No direct writes: every write is buffered.
 
     /// Never made: [`start`] always returns `None`.
-    pub(super) enum Chunk {}
+    pub(super) enum Writer {}
 
-    pub(super) fn start(_: &std::fs::File) -> Option<Chunk> {
+    pub(super) fn start(_: &std::fs::File) -> Option<Writer> {
         None
     }
 
-    impl Chunk {
-        pub(super) fn push(&mut self, _: &[u8]) -> usize {
+    impl Writer {
+        pub(super) fn write(&mut self, _: &[u8]) -> std::io::Result<usize> {
             match *self {}
         }
-        pub(super) fn is_full(&self) -> bool {
-            match *self {}
-        }
-        pub(super) fn write_full(&mut self, _: &std::fs::File, _: u64) -> std::io::Result<bool> {
-            match *self {}
-        }
-        pub(super) fn finish(&mut self, _: &std::fs::File, _: u64) -> std::io::Result<()> {
-            match *self {}
+        pub(super) fn finish(self) -> std::io::Result<()> {
+            match self {}
         }
     }
 }
@@ -346,8 +414,8 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("out.bin");
         let mut f = AtomicFile::create(&path).unwrap();
-        if let Some(chunk) = &mut f.direct {
-            chunk.misalign();
+        if let Some(w) = &mut f.direct {
+            w.misalign();
         }
         let bytes: Vec<u8> = (0..(9 << 20) + 5).map(|k| (k % 251) as u8).collect();
         f.write_all(&bytes).unwrap();
