@@ -237,10 +237,11 @@ fn loops(out: &mut Vec<u8>, family: &[Loop], ex: Exactness) {
 /// with the keys of SPEC section 9 in order, numbers formatted as
 /// `serde_json` formats them.
 pub fn level_text(ls: &LevelSet, ex: Exactness) -> LevelText {
-    // About 40 bytes a rounded point: room for S_O once.
+    // A rounded point `[x,y],` takes about 40 bytes, rarely over 48: room
+    // for S_O once, mostly without growing.
     let points: usize = ls.contours.iter().map(|l| l.points.len()).sum();
     let mut t = LevelText {
-        bytes: Vec::with_capacity(256 + 40 * points),
+        bytes: Vec::with_capacity(256 + 48 * points),
         ..LevelText::default()
     };
     let out = &mut t.bytes;
