@@ -97,3 +97,38 @@ fn a_refusing_sink_stops_the_sweep() {
         }
     }
 }
+
+/// A plan made beforehand (as the CLI makes it beside validation) slices
+/// as `slice_levels` does; a plan made for another mesh (here an equal
+/// copy) or for a mesh validation refuses is no trap.
+#[test]
+fn plans_made_beforehand_slice_the_same() {
+    use wmslice::layers::{slice_plan_then, SweepPlan};
+    let one = Rat::from_integer(1.into());
+    let keep = |_: usize, ls: LevelSet| ls;
+    for d in datasets::all() {
+        let mesh = d.build();
+        let copy = mesh.clone();
+        let slicer = Slicer::new(&mesh).unwrap();
+        let levels = levels_of(&mesh);
+        let reference = swept(&slicer, &levels, 1);
+        for plan in [
+            SweepPlan::new(&mesh, &one, &levels),
+            SweepPlan::new(&copy, &one, &levels),
+        ] {
+            for threads in [1, 3] {
+                let mut out = Vec::new();
+                slice_plan_then::<_, Infallible, _, _>(&slicer, &plan, threads, &keep, |_, ls| {
+                    out.push(ls);
+                    Ok(())
+                })
+                .unwrap();
+                assert!(out == reference, "{}", d.name);
+            }
+        }
+    }
+    let mut broken = datasets::by_name("octahedron").unwrap().build();
+    broken.faces[0][0] = wmslice::ids::VertexId(99);
+    let levels = vec![one.clone()];
+    let _ = SweepPlan::new(&broken, &one, &levels);
+}

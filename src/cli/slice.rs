@@ -10,7 +10,7 @@ use std::io::{IsTerminal, Write};
 use wmslice::exact::parse_rational;
 use wmslice::exact::rational::rat_from_f64;
 use wmslice::exact::rational::{rat_to_f64, rat_to_string, Rat};
-use wmslice::layers::{plan_levels, slice_levels, slice_levels_then, LayerPlan, SweepError};
+use wmslice::layers::{plan_levels, slice_plan_then, LayerPlan, SweepError, SweepPlan};
 use wmslice::naive::naive_slice;
 use wmslice::output::atomic::AtomicFile;
 use wmslice::output::json::{level_text, to_json, Exactness, JsonWriter, MeshHeader};
@@ -194,11 +194,17 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
         return slice_naive(&a, &input, &levels);
     }
     let validating = step("validating the mesh and building its topology", a.quiet);
-    // The header's fingerprint is hashed beside validation.
-    let (slicer, header) = pool.install(|| {
+    // The header's fingerprint is hashed, and the faces filed under the
+    // levels, beside validation.
+    let (slicer, (header, plan)) = pool.install(|| {
         rayon::join(
-            || Slicer::with_unit(&input.mesh, unit),
-            || MeshHeader::new(&input.mesh, input.unit.as_ref()),
+            || Slicer::with_unit(&input.mesh, unit.clone()),
+            || {
+                rayon::join(
+                    || MeshHeader::new(&input.mesh, input.unit.as_ref()),
+                    || SweepPlan::new(&input.mesh, &unit, &levels),
+                )
+            },
         )
     });
     validating.finish_and_clear();
@@ -217,7 +223,7 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
                 let mut w = JsonWriter::begin(sink, &header, ex).map_err(output_error)?;
                 // Serialized on the workers, written here in order.
                 let text = |_: usize, ls: LevelSet| level_text(&ls, ex);
-                slice_levels_then(&slicer, &levels, threads, &text, |_, text| {
+                slice_plan_then(&slicer, &plan, threads, &text, |_, text| {
                     bar.inc(1);
                     w.level_text(&text)
                 })
@@ -227,7 +233,7 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
             _ => {
                 let mut sink = sink;
                 let text = |_: usize, ls: LevelSet| summary(&ls);
-                slice_levels_then(&slicer, &levels, threads, &text, |i, text| {
+                slice_plan_then(&slicer, &plan, threads, &text, |i, text| {
                     bar.inc(1);
                     let sep = if i == 0 { "" } else { "\n" };
                     writeln!(sink, "{sep}{text}")
@@ -240,7 +246,8 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
         return sink.close().map_err(output_error);
     }
     let mut sets: Vec<LevelSet> = Vec::with_capacity(levels.len());
-    slice_levels(&slicer, &levels, threads, |_, ls| {
+    let keep = |_: usize, ls: LevelSet| ls;
+    slice_plan_then(&slicer, &plan, threads, &keep, |_, ls| {
         bar.inc(1);
         sets.push(ls);
         Ok::<(), std::io::Error>(())

@@ -21,6 +21,7 @@ use crate::exact::rational::Rat;
 use crate::exact::{Level, Sign};
 use crate::ids::FaceId;
 use crate::levelset::{LevelSet, SliceError, Slicer};
+use crate::mesh::Mesh;
 use crate::par;
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -76,14 +77,18 @@ struct Heights {
 impl Heights {
     /// Files the faces in parallel (on the current rayon pool) when
     /// `parallel`, else on this thread; the same result either way.
-    fn new(slicer: &Slicer<'_>, levels: &[Rat], parallel: bool) -> Self {
-        let mesh = slicer.mesh();
-        let grid: Vec<Level> = levels.iter().map(|c| slicer.grid_level(c)).collect();
+    fn new(mesh: &Mesh, unit: &Rat, levels: &[Rat], parallel: bool) -> Self {
+        let grid: Vec<Level> = levels.iter().map(|c| Level::new(c / unit)).collect();
         let brackets: Vec<Bracket> = grid.iter().map(Level::bracket).collect();
         let approx: Vec<f64> = grid.iter().map(Level::approx).collect();
         let file = |f: usize| {
-            let z = mesh.faces[f].map(|v| mesh.positions[v.idx()][2]);
-            let (lo, hi) = (z[0].min(z[1]).min(z[2]), z[0].max(z[1]).max(z[2]));
+            // The plan may be made before validation: a face with a vertex
+            // out of range (a mesh validation refuses) is not filed.
+            let z = mesh.faces[f].map(|v| mesh.positions.get(v.idx()).map(|p| p[2]));
+            let [Some(a), Some(b), Some(c)] = z else {
+                return None;
+            };
+            let (lo, hi) = (a.min(b).min(c), a.max(b).max(c));
             let first = first_level_at_or_above(&brackets, &approx, lo);
             (first < grid.len() && brackets[first].sign_of(hi) != Sign::Negative).then(|| {
                 let entry = Entry {
@@ -255,6 +260,41 @@ where
     slice_levels_then(slicer, levels, threads, &finish, sink)
 }
 
+/// A mesh's faces filed under the levels of a plan: the sweep's setup,
+/// which needs neither validation nor topology, so a caller may make it
+/// beside them (e.g. in a `rayon::join` with [`Slicer::with_unit`]) and
+/// hand it to [`slice_plan_then`].
+pub struct SweepPlan<'a> {
+    mesh: &'a Mesh,
+    unit: Rat,
+    levels: &'a [Rat],
+    heights: Heights,
+}
+
+impl<'a> SweepPlan<'a> {
+    /// Files `mesh`'s faces under `levels` (ascending, distinct, exact, in
+    /// the units of [`Slicer::with_unit`]'s `unit`), in parallel on the
+    /// current rayon pool for a large mesh.
+    pub fn new(mesh: &'a Mesh, unit: &Rat, levels: &'a [Rat]) -> Self {
+        let parallel = mesh.num_faces() >= par::MIN_LEN;
+        Self::filed(mesh, unit, levels, parallel)
+    }
+
+    fn filed(mesh: &'a Mesh, unit: &Rat, levels: &'a [Rat], parallel: bool) -> Self {
+        SweepPlan {
+            mesh,
+            unit: unit.clone(),
+            levels,
+            heights: Heights::new(mesh, unit, levels, parallel),
+        }
+    }
+
+    /// Whether the plan was made for this slicer's mesh and units.
+    fn fits(&self, slicer: &Slicer<'_>) -> bool {
+        std::ptr::eq(self.mesh, slicer.mesh()) && self.unit == *slicer.unit()
+    }
+}
+
 /// [`slice_levels`] with a step run on the workers: `finish` turns each
 /// level set into what `sink` takes (e.g. its serialized text), so that
 /// work is spread over the threads too; `sink` still sees the results in
@@ -264,6 +304,68 @@ pub fn slice_levels_then<T, E, F, S>(
     levels: &[Rat],
     threads: usize,
     finish: &F,
+    sink: S,
+) -> Result<(), SweepError<E>>
+where
+    T: Send,
+    E: std::error::Error + 'static,
+    F: Fn(usize, LevelSet) -> T + Sync,
+    S: FnMut(usize, T) -> Result<(), E>,
+{
+    let (mesh, unit) = (slicer.mesh(), slicer.unit());
+    let threads = threads.clamp(1, levels.len().max(1));
+    if threads == 1 {
+        let plan = SweepPlan::filed(mesh, unit, levels, false);
+        return sweep(slicer, &plan, None, finish, sink);
+    }
+    let pool = pool(threads)?;
+    let plan = pool.install(|| SweepPlan::new(mesh, unit, levels));
+    sweep(slicer, &plan, Some(pool), finish, sink)
+}
+
+/// [`slice_levels_then`] for the levels of a plan made beforehand. A plan
+/// made for another mesh, or other units, is made again.
+pub fn slice_plan_then<T, E, F, S>(
+    slicer: &Slicer<'_>,
+    plan: &SweepPlan<'_>,
+    threads: usize,
+    finish: &F,
+    sink: S,
+) -> Result<(), SweepError<E>>
+where
+    T: Send,
+    E: std::error::Error + 'static,
+    F: Fn(usize, LevelSet) -> T + Sync,
+    S: FnMut(usize, T) -> Result<(), E>,
+{
+    if !plan.fits(slicer) {
+        return slice_levels_then(slicer, plan.levels, threads, finish, sink);
+    }
+    let threads = threads.clamp(1, plan.levels.len().max(1));
+    let pool = if threads > 1 {
+        Some(pool(threads)?)
+    } else {
+        None
+    };
+    sweep(slicer, plan, pool, finish, sink)
+}
+
+fn pool<E: std::error::Error + 'static>(
+    threads: usize,
+) -> Result<rayon::ThreadPool, SweepError<E>> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| SweepError::Threads(e.to_string()))
+}
+
+/// Slices the plan's levels: on this thread without a pool, else on the
+/// pool's threads with this one handing the results on.
+fn sweep<T, E, F, S>(
+    slicer: &Slicer<'_>,
+    plan: &SweepPlan<'_>,
+    pool: Option<rayon::ThreadPool>,
+    finish: &F,
     mut sink: S,
 ) -> Result<(), SweepError<E>>
 where
@@ -272,11 +374,9 @@ where
     F: Fn(usize, LevelSet) -> T + Sync,
     S: FnMut(usize, T) -> Result<(), E>,
 {
-    let threads = threads.clamp(1, levels.len().max(1));
-    if threads == 1 {
-        // The same sweep on the caller's thread.
-        let heights = Heights::new(slicer, levels, false);
-        let mut sweep = Sweep::new(&heights);
+    let (levels, heights) = (plan.levels, &plan.heights);
+    let Some(pool) = pool else {
+        let mut sweep = Sweep::new(heights);
         for (index, c) in levels.iter().enumerate() {
             let ls = sweep
                 .slice(slicer, index, c)
@@ -284,16 +384,12 @@ where
             sink(index, finish(index, ls)).map_err(SweepError::Sink)?;
         }
         return Ok(());
-    }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| SweepError::Threads(e.to_string()))?;
-    let heights = pool.install(|| Heights::new(slicer, levels, true));
+    };
+    let threads = pool.current_num_threads();
     let window = Window::new(AHEAD * threads);
     let (tx, rx) = sync_channel::<(usize, Result<T, SliceError>)>(AHEAD * threads);
     let worker = |tx: SyncSender<(usize, Result<T, SliceError>)>| {
-        let mut sweep = Sweep::new(&heights);
+        let mut sweep = Sweep::new(heights);
         while let Some(index) = window.claim(levels.len()) {
             let result = sweep
                 .slice(slicer, index, &levels[index])

@@ -229,6 +229,11 @@ impl<'m> Slicer<'m> {
         self.mesh
     }
 
+    /// The grid unit: a stored coordinate times `unit` is the true one.
+    pub fn unit(&self) -> &Rat {
+        &self.unit
+    }
+
     /// The complete level set at the exact level `c` (in the mesh's units).
     pub fn slice_at(&self, c: &Rat) -> Result<LevelSet, SliceError> {
         let grid_level = self.grid_level(c);
