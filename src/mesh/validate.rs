@@ -301,8 +301,29 @@ pub fn validate(mesh: &Mesh) -> Report {
     // Independent passes, on the caller's rayon pool (one thread: one
     // after the other); defects are reported in the same order either way.
     let parallel = mesh.num_faces() >= par::MIN_LEN;
-    let (volume, (topo, issues)) =
-        par::join(parallel, || signed_volume(mesh), || Topology::build(mesh));
+    let finite = mesh
+        .positions
+        .iter()
+        .all(|p| p.iter().all(|x| x.is_finite()));
+    // The topology's build is the longest chain; the passes that do not
+    // need it run beside it.
+    let ((volume, zero_area), (topo, issues)) = par::join(
+        parallel,
+        || {
+            par::join(
+                parallel,
+                || signed_volume(mesh),
+                || {
+                    if finite {
+                        zero_area_faces(mesh)
+                    } else {
+                        Vec::new()
+                    }
+                },
+            )
+        },
+        || Topology::build(mesh),
+    );
     stats.volume = rat_to_string(&volume);
     for d in duplicate_faces(mesh, &topo, &issues) {
         sink.push(d);
@@ -310,10 +331,6 @@ pub fn validate(mesh: &Mesh) -> Report {
     let closed_manifold = issues.is_empty();
     report_topology_issues(mesh, issues, &mut sink);
 
-    let finite = mesh
-        .positions
-        .iter()
-        .all(|p| p.iter().all(|x| x.is_finite()));
     let mut used = vec![false; nv];
     for tri in &mesh.faces {
         for v in tri {
@@ -327,26 +344,17 @@ pub fn validate(mesh: &Mesh) -> Report {
             });
         }
     }
-    // The component count (a serial union-find) beside the geometric
-    // checks (parallel over faces and edges).
-    let (components, (zero_area, folded)) = par::join(
+    // The component count (a serial union-find) beside the fold check
+    // (parallel over edges).
+    let (components, folded) = par::join(
         parallel,
         || components(mesh, &topo),
         || {
-            if !finite {
-                return (Vec::new(), Vec::new());
+            if finite && closed_manifold {
+                folds(mesh, &topo)
+            } else {
+                Vec::new()
             }
-            par::join(
-                parallel,
-                || zero_area_faces(mesh),
-                || {
-                    if closed_manifold {
-                        folds(mesh, &topo)
-                    } else {
-                        Vec::new()
-                    }
-                },
-            )
         },
     );
     for d in zero_area.into_iter().chain(folded) {
