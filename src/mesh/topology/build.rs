@@ -60,23 +60,44 @@ pub(super) fn build(mesh: &Mesh) -> (Topology, Vec<TopologyIssue>) {
 }
 
 /// The blocks' edges in order, where each vertex's edges start (`nv + 1`
-/// entries), and the bad edges.
+/// entries), and the bad edges. The edges are copied block by block in
+/// parallel, each into its own part of the table.
 fn join_blocks(
     per_block: Vec<BlockEdges>,
     mesh: &Mesh,
 ) -> (Vec<Edge>, Vec<u32>, Vec<TopologyIssue>) {
-    let mut edges = Vec::with_capacity(3 * mesh.num_faces() / 2 + 1);
     let mut edge_start = Vec::with_capacity(mesh.num_vertices() + 1);
     edge_start.push(0u32);
     let mut issues = Vec::new();
-    for b in per_block {
-        for n in b.counts {
+    for b in &per_block {
+        for &n in &b.counts {
             let last = *edge_start.last().unwrap_or(&0);
             edge_start.push(last + n);
         }
-        edges.extend(b.edges);
-        issues.extend(b.issues);
+        issues.extend_from_slice(&b.issues);
     }
+    let total = per_block.iter().map(|b| b.edges.len()).sum();
+    let mut edges: Vec<Edge> = Vec::with_capacity(total);
+    let mut rest = &mut edges.spare_capacity_mut()[..total];
+    let mut parts = Vec::with_capacity(per_block.len());
+    for b in &per_block {
+        let (part, tail) = rest.split_at_mut(b.edges.len());
+        parts.push((part, &b.edges));
+        rest = tail;
+    }
+    let copy = |(part, block): (&mut [std::mem::MaybeUninit<Edge>], &Vec<Edge>)| {
+        for (slot, e) in part.iter_mut().zip(block) {
+            slot.write(*e);
+        }
+    };
+    if total >= par::MIN_LEN {
+        parts.into_par_iter().for_each(copy);
+    } else {
+        parts.into_iter().for_each(copy);
+    }
+    // SAFETY: the parts cover `0..total` exactly, and every slot of each
+    // part was written from its block (equal lengths).
+    unsafe { edges.set_len(total) };
     (edges, edge_start, issues)
 }
 
