@@ -22,3 +22,15 @@ where
         (a(), b())
     }
 }
+
+/// `vec![value; n]`, filled in parallel when long: the first write to each
+/// page of a fresh allocation is a page fault, and a large table's faults
+/// are then shared by the threads instead of taken one after another.
+pub(crate) fn filled<T: Clone + Send + Sync>(value: T, n: usize) -> Vec<T> {
+    use rayon::prelude::*;
+    if n >= MIN_LEN {
+        rayon::iter::repeat_n(value, n).collect()
+    } else {
+        vec![value; n]
+    }
+}

@@ -116,13 +116,15 @@ impl Heights {
             start[i + 1] += start[i];
         }
         let mut at = start.clone();
-        let mut entries = vec![
-            Entry {
-                face: FaceId(0),
-                top: 0.0
-            };
-            filed.len()
-        ];
+        let blank = Entry {
+            face: FaceId(0),
+            top: 0.0,
+        };
+        let mut entries = if parallel {
+            par::filled(blank, filed.len())
+        } else {
+            vec![blank; filed.len()]
+        };
         for (level, entry) in filed {
             entries[at[level]] = entry;
             at[level] += 1;

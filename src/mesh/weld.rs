@@ -253,7 +253,7 @@ fn weld_in_runs(
         local.push(part.ids);
     }
     // Corner ids through each run's numbering, run by run in parallel.
-    let mut faces = vec![[VertexId(0); 3]; n];
+    let mut faces = par::filled([VertexId(0); 3], n);
     let mut rest = &mut faces[..];
     let mut pieces = Vec::with_capacity(runs);
     for (local, ids) in local.iter().zip(&global) {

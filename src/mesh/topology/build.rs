@@ -135,7 +135,7 @@ fn fans(
         edge: EdgeId(0),
         face: FaceId(0),
     };
-    let mut fan = vec![blank; corners.len()];
+    let mut fan = par::filled(blank, corners.len());
     let mut parts = Vec::with_capacity(blocks.len());
     let mut rest = fan.as_mut_slice();
     for vs in blocks {
@@ -164,7 +164,7 @@ fn corners_by_vertex(mesh: &Mesh) -> (Vec<u32>, Vec<Corner>) {
     for k in 0..nv {
         start[k + 1] += start[k];
     }
-    let mut corners = vec![Corner::default(); 3 * mesh.num_faces()];
+    let mut corners = par::filled(Corner::default(), 3 * mesh.num_faces());
     let mut fill = start.clone();
     for (f, tri) in mesh.faces.iter().enumerate() {
         for c in 0..3 {
