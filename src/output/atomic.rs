@@ -141,6 +141,9 @@ mod direct {
     const ALIGN: usize = 4096;
     /// Bytes per direct write.
     const CHUNK: usize = 4 << 20;
+    /// Chunks besides the one filling: room for bursts of output while the
+    /// disk catches up.
+    const SPARE: usize = 3;
 
     /// A buffer of `CHUNK` bytes at an `ALIGN`ed address, filling up.
     pub(super) struct Chunk {
@@ -192,10 +195,12 @@ mod direct {
         if !set_direct(file, true) {
             return None;
         }
-        let (jobs, inbox) = sync_channel::<Job>(1);
-        let (done_tx, done) = sync_channel::<Result<Chunk>>(2);
-        // A second chunk to fill while the first is written.
-        done_tx.send(Ok(Chunk::new())).ok()?;
+        let (jobs, inbox) = sync_channel::<Job>(SPARE);
+        let (done_tx, done) = sync_channel::<Result<Chunk>>(SPARE + 1);
+        // Chunks to fill while others wait for the disk.
+        for _ in 0..SPARE {
+            done_tx.send(Ok(Chunk::new())).ok()?;
+        }
         let thread = std::thread::Builder::new()
             .name("wmslice-write".into())
             .spawn(move || {
