@@ -2,8 +2,9 @@
 //! y-order), fast.
 //!
 //! Each exact coordinate is approximated once by a double within `2^-50`
-//! of it relatively (for a point held as integers `x 2^e / w`: the two
-//! integers converted and divided; otherwise the nearest double). A
+//! of it relatively (for a point held as integers `x 2^e / w`: the
+//! integers converted, times `w`'s reciprocal; otherwise the nearest
+//! double). A
 //! loop's orientation is the shoelace on those approximations with an
 //! a-priori error bound ([`signed_area_filtered`]). For orient2d and the
 //! y-order each approximation gives an interval of doubles (`2^-50` of it
@@ -112,21 +113,27 @@ fn to_f64_within_ulp(v: i128) -> f64 {
     ((v >> shift) as i64 as f64) * f64::from_bits(((shift + 1023) as u64) << 52)
 }
 
-/// An approximation of `n 2^e / w` (`w > 0`) within `2^-50` of it,
-/// relatively, from one rounded division: `n` and `w` converted to
-/// doubles (relative error below `1.001u` each, `u = 2^-53`), divided
-/// (below `4u` in all). `None` out of the range where scaling is exact.
+/// Approximations of `x 2^e / w` and `y 2^e / w` (`w > 0`) within
+/// `2^-50` of them, relatively: `x`, `y` and `w` converted to doubles
+/// (relative error below `1.001u` each, `u = 2^-53`), `w`'s reciprocal
+/// taken once (below `u`) and multiplied (below `u`): below `4.01u` in
+/// all. `None` out of the range where scaling is exact.
 #[inline]
-fn approx_ratio(n: i128, w: i128, e: i32) -> Option<f64> {
-    if n == 0 {
-        return Some(0.0);
-    }
+fn approx_pair(x: i128, y: i128, w: i128, e: i32) -> Option<(f64, f64)> {
     if !(-900..=900).contains(&e) {
         return None;
     }
     let scale = f64::from_bits(((e + 1023) as u64) << 52);
-    let v = to_f64_within_ulp(n) / to_f64_within_ulp(w) * scale;
-    (TINY..=1.0 / TINY).contains(&v.abs()).then_some(v)
+    // 1 <= w < 2^126: the reciprocal is a normal double.
+    let inv = 1.0 / to_f64_within_ulp(w);
+    let one = |n: i128| {
+        if n == 0 {
+            return Some(0.0);
+        }
+        let v = to_f64_within_ulp(n) * inv * scale;
+        (TINY..=1.0 / TINY).contains(&v.abs()).then_some(v)
+    };
+    Some((one(x)?, one(y)?))
 }
 
 /// The bits of a point's nearest doubles: equal for equal points (so a
@@ -160,7 +167,7 @@ impl<'a> FilteredPoint<'a> {
     pub fn approximate(p: &'a LoopPoint) -> Self {
         let from_integers = p
             .as_integers()
-            .and_then(|(x, y, w, e)| Some((approx_ratio(x, w, e)?, approx_ratio(y, w, e)?)));
+            .and_then(|(x, y, w, e)| approx_pair(x, y, w, e));
         let (x, y) = from_integers.unwrap_or_else(|| {
             // The nearest doubles: within 2^-53 relatively when normal.
             let [x, y] = p.to_f64();
