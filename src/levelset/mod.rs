@@ -385,11 +385,20 @@ impl<'a> LevelBuilder<'a> {
                 if s.iter().all(|&x| x == Sign::Zero) {
                     in_plane.push(f);
                 }
+                // Every face around an on-plane vertex or edge touches the
+                // plane, so each is taken once: from its first fan face,
+                // from its first face.
                 for c in 0..3 {
                     if s[c] == Sign::Zero {
-                        on_plane.push(tri[c]);
+                        let v = tri[c];
+                        if topo.fan(v).first().is_some_and(|e| e.face == f) {
+                            on_plane.push(v);
+                        }
                         if s[(c + 1) % 3] == Sign::Zero {
-                            candidates.push(topo.face_edges[f.idx()][c]);
+                            let e = topo.face_edges[f.idx()][c];
+                            if topo.edge(e).faces[0] == f {
+                                candidates.push(e);
+                            }
                         }
                     }
                 }
@@ -402,9 +411,7 @@ impl<'a> LevelBuilder<'a> {
         let mut region_of = HashMap::default();
         let regions = face_regions(mesh, topo, signs, &in_plane, &mut region_of);
         candidates.sort_unstable();
-        candidates.dedup();
         on_plane.sort_unstable();
-        on_plane.dedup();
         let edges = classify_edges(topo, signs, &candidates, &regions, &region_of);
 
         // S_O: the crossed faces' segments, then transversal edges and
