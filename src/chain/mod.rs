@@ -86,9 +86,14 @@ pub fn chain_loops(topo: &Topology, segments: &[Segment]) -> Result<Vec<Vec<usiz
         return Err(unbalanced(CutPoint::OnEdge(e)));
     }
     // At vertices, arrivals and departures sorted by vertex (then segment
-    // index) are two runs per vertex, read side by side.
-    ins.sort_unstable();
-    outs.sort_unstable();
+    // index) are two runs per vertex, read side by side. Only vertices are
+    // in these lists: one integer key sorts them as the pairs would.
+    let order = |&(c, i): &(CutPoint, usize)| match c {
+        CutPoint::AtVertex(v) => (u64::from(v.0) << 32) | i as u64,
+        CutPoint::OnEdge(_) => u64::MAX,
+    };
+    ins.sort_unstable_by_key(order);
+    outs.sort_unstable_by_key(order);
     let (mut a, mut b) = (0, 0);
     loop {
         let p = match (ins.get(a), outs.get(b)) {

@@ -166,10 +166,12 @@ pub fn nest_filtered(
             .collect(),
         Reversals::Impossible => Vec::new(),
     };
-    let segments: HashSet<(Key, Key)> = keys
-        .iter()
-        .flat_map(|k| (0..k.len()).map(|i| (k[i], k[(i + 1) % k.len()])))
-        .collect();
+    let mut segments: HashSet<(Key, Key)> =
+        HashSet::with_capacity_and_hasher(keys.iter().map(Vec::len).sum(), Default::default());
+    segments.extend(
+        keys.iter()
+            .flat_map(|k| (0..k.len()).map(|i| (k[i], k[(i + 1) % k.len()]))),
+    );
     let reps: Vec<Option<LoopPoint>> = filtered
         .iter()
         .enumerate()
