@@ -67,11 +67,8 @@ struct Entry {
 /// levels, touch no level and are left out at once.
 struct Heights {
     grid: Vec<Level>,
-    /// The faces filed under each level, level after level, each level's
-    /// ascending by face.
-    entries: Vec<Entry>,
-    /// Level `i`'s faces are `entries[start[i]..start[i + 1]]`.
-    start: Vec<usize>,
+    /// The faces filed under each level, ascending by face.
+    entering: Vec<Vec<Entry>>,
 }
 
 impl Heights {
@@ -81,65 +78,50 @@ impl Heights {
         let grid: Vec<Level> = levels.iter().map(|c| Level::new(c / unit)).collect();
         let brackets: Vec<Bracket> = grid.iter().map(Level::bracket).collect();
         let approx: Vec<f64> = grid.iter().map(Level::approx).collect();
-        let file = |f: usize| {
-            // The plan may be made before validation: a face with a vertex
-            // out of range (a mesh validation refuses) is not filed.
-            let z = mesh.faces[f].map(|v| mesh.positions.get(v.idx()).map(|p| p[2]));
-            let [Some(a), Some(b), Some(c)] = z else {
-                return None;
-            };
-            let (lo, hi) = (a.min(b).min(c), a.max(b).max(c));
-            let first = first_level_at_or_above(&brackets, &approx, lo);
-            (first < grid.len() && brackets[first].sign_of(hi) != Sign::Negative).then(|| {
-                let entry = Entry {
-                    face: FaceId::from_idx(f),
-                    top: hi,
+        let file = |faces: std::ops::Range<usize>| {
+            let mut entering = vec![Vec::new(); grid.len()];
+            for f in faces {
+                // The plan may be made before validation: a face with a
+                // vertex out of range (a mesh validation refuses) is not
+                // filed.
+                let z = mesh.faces[f].map(|v| mesh.positions.get(v.idx()).map(|p| p[2]));
+                let [Some(a), Some(b), Some(c)] = z else {
+                    continue;
                 };
-                (first, entry)
+                let (lo, hi) = (a.min(b).min(c), a.max(b).max(c));
+                let first = first_level_at_or_above(&brackets, &approx, lo);
+                if first < grid.len() && brackets[first].sign_of(hi) != Sign::Negative {
+                    entering[first].push(Entry {
+                        face: FaceId::from_idx(f),
+                        top: hi,
+                    });
+                }
+            }
+            entering
+        };
+        let n = mesh.num_faces();
+        let runs = rayon::current_num_threads();
+        if !parallel || n < par::MIN_LEN || runs < 2 {
+            return Heights {
+                entering: file(0..n),
+                grid,
+            };
+        }
+        // Runs of consecutive faces filed in parallel, then each level's
+        // lists joined in run order (so still ascending by face).
+        let parts: Vec<Vec<Vec<Entry>>> = (0..runs)
+            .into_par_iter()
+            .map(|r| file(r * n / runs..(r + 1) * n / runs))
+            .collect();
+        let entering = (0..grid.len())
+            .into_par_iter()
+            .map(|l| {
+                let mut all = Vec::with_capacity(parts.iter().map(|p| p[l].len()).sum());
+                parts.iter().for_each(|p| all.extend_from_slice(&p[l]));
+                all
             })
-        };
-        let filed: Vec<(usize, Entry)> = if parallel {
-            (0..mesh.num_faces())
-                .into_par_iter()
-                .with_min_len(par::MIN_LEN)
-                .filter_map(file)
-                .collect()
-        } else {
-            (0..mesh.num_faces()).filter_map(file).collect()
-        };
-        // A counting sort by level keeps each level's faces ascending.
-        let mut start = vec![0; grid.len() + 1];
-        for &(level, _) in &filed {
-            start[level + 1] += 1;
-        }
-        for i in 0..grid.len() {
-            start[i + 1] += start[i];
-        }
-        let mut at = start.clone();
-        let blank = Entry {
-            face: FaceId(0),
-            top: 0.0,
-        };
-        let mut entries = if parallel {
-            par::filled(blank, filed.len())
-        } else {
-            vec![blank; filed.len()]
-        };
-        for (level, entry) in filed {
-            entries[at[level]] = entry;
-            at[level] += 1;
-        }
-        Heights {
-            grid,
-            entries,
-            start,
-        }
-    }
-
-    /// The faces filed under levels `levels` (ascending by face within
-    /// each level).
-    fn filed(&self, levels: std::ops::RangeInclusive<usize>) -> &[Entry] {
-        &self.entries[self.start[*levels.start()]..self.start[*levels.end() + 1]]
+            .collect();
+        Heights { grid, entering }
     }
 }
 
@@ -153,12 +135,13 @@ fn first_level_at_or_above(brackets: &[Bracket], approx: &[f64], h: f64) -> usiz
         return 0;
     }
     let (a, b) = (approx[0], approx[k - 1]);
-    let t = ((h - a) / (b - a) * (k - 1) as f64).ceil();
-    let guess = if t.is_finite() {
-        t.clamp(0.0, k as f64) as usize
-    } else {
-        0
-    };
+    // The guess is only a guess (confirmed exactly below): its ceiling by
+    // a truncating conversion (saturating; NaN gives 0) and one step, as
+    // `f64::ceil` is a library call on baseline x86-64.
+    let t = (h - a) / (b - a) * (k - 1) as f64;
+    let trunc = t as i64;
+    let ceil = trunc + i64::from((trunc as f64) < t);
+    let guess = ceil.clamp(0, k as i64) as usize;
     let left_ok = guess == 0 || below(guess - 1);
     let right_ok = guess == k || !below(guess);
     let search = |part: &[Bracket]| part.partition_point(|l| l.sign_of(h) == Sign::Positive);
@@ -203,9 +186,9 @@ impl<'h> Sweep<'h> {
         let level = h.grid[index].bracket();
         let touching = |e: &Entry| level.sign_of(e.top) != Sign::Negative;
         self.active.retain(touching);
-        let mut entering: Vec<Entry> = h
-            .filed(self.next.min(index + 1)..=index)
+        let mut entering: Vec<Entry> = h.entering[self.next.min(index + 1)..=index]
             .iter()
+            .flatten()
             .copied()
             .filter(touching)
             .collect();
