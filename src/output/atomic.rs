@@ -1,11 +1,12 @@
 //! Input: bytes and a target path. Output: the file, written whole or not
 //! at all: a temporary file in the target directory, then a rename.
 //!
-//! On Linux the bytes go to the disk straight from aligned buffers
-//! (`O_DIRECT`) where the file system allows it, written by a thread of
-//! their own while the next buffer fills: a large output then costs no
+//! On Linux a large output goes to the disk straight from aligned 4 MB
+//! buffers (`O_DIRECT`) where the file system allows it, written by a
+//! thread of its own while the next buffer fills: it then costs no
 //! page-cache copy, no write-back work on the CPUs that slice and no wait
-//! for the disk, and the final `fsync` finds the data already there.
+//! for the disk, and the final `fsync` finds the data already there. An
+//! output smaller than one buffer is written in one buffered write.
 //! Elsewhere (or when the file system refuses direct writes) the writes
 //! are buffered, and write-back is started every few megabytes so that
 //! the `fsync` does not wait for all of it at the end.
@@ -77,7 +78,13 @@ impl AtomicFile {
 impl Write for AtomicFile {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
         if let Some(w) = &mut self.direct {
-            return w.write(buf);
+            let (n, direct) = w.write(buf)?;
+            self.written += n as u64;
+            if !direct {
+                self.direct = None;
+                self.flushed = self.written;
+            }
+            return Ok(n);
         }
         let n = self.tmp.write(buf)?;
         self.written += n as u64;
@@ -125,9 +132,10 @@ fn start_writeback(_: &std::fs::File, _: u64, _: u64) {}
 mod direct {
     //! Direct writes: whole chunks of whole blocks from aligned buffers,
     //! each at its offset, by a writer thread while the next chunk fills;
-    //! the tail (less than a block) buffered at the end. A direct write
-    //! the file system refuses (`EINVAL`) turns direct writes off for the
-    //! file and is made again, buffered.
+    //! the tail (less than a block) buffered at the end. Nothing starts
+    //! before the first chunk fills: a file smaller than a chunk is one
+    //! buffered write. A direct write the file system refuses (`EINVAL`)
+    //! turns direct writes off for the file and is made again, buffered.
 
     use std::fs::File;
     use std::io::Result;
@@ -177,20 +185,45 @@ mod direct {
         last: bool,
     }
 
-    /// The filling side: the chunk being filled, the writer thread, and
-    /// the chunks it hands back once written.
+    /// The filling side: the chunk being filled and, once one chunk has
+    /// filled (smaller files are written in one buffered write at the
+    /// end), the writer thread with the chunks it hands back.
     pub(super) struct Writer {
         chunk: Chunk,
         /// File offset of `chunk`'s first byte.
         at: u64,
+        /// A second descriptor of the file, for the writer thread.
+        file: File,
+        running: Option<Running>,
+        /// Tests: behave as a file system without direct writes.
+        #[cfg(test)]
+        refuse: bool,
+    }
+
+    /// The writer thread and its two channels.
+    struct Running {
         jobs: SyncSender<Job>,
         done: Receiver<Result<Chunk>>,
         thread: JoinHandle<()>,
     }
 
-    /// Turns on direct writes for `file` and starts the writer thread, or
-    /// `None` when the file system does not take direct writes.
+    /// A writer for `file` (nothing is written, and direct writes are not
+    /// turned on, before a chunk fills), or `None` without a second
+    /// descriptor.
     pub(super) fn start(file: &File) -> Option<Writer> {
+        Some(Writer {
+            chunk: Chunk::new(),
+            at: 0,
+            file: file.try_clone().ok()?,
+            running: None,
+            #[cfg(test)]
+            refuse: false,
+        })
+    }
+
+    /// Turns on direct writes and starts the writer thread; `None` when
+    /// the file system does not take direct writes (or no thread starts).
+    fn run(file: &File) -> Option<Running> {
         let own = file.try_clone().ok()?;
         if !set_direct(file, true) {
             return None;
@@ -216,13 +249,7 @@ mod direct {
             set_direct(file, false);
             return None;
         };
-        Some(Writer {
-            chunk: Chunk::new(),
-            at: 0,
-            jobs,
-            done,
-            thread,
-        })
+        Some(Running { jobs, done, thread })
     }
 
     /// Writes a job's bytes at its offset: whole blocks directly, the
@@ -272,43 +299,66 @@ mod direct {
     }
 
     impl Writer {
-        /// Takes as much of `buf` as fits in the chunk; a full chunk goes
-        /// to the writer thread and the next one is filled.
-        pub(super) fn write(&mut self, buf: &[u8]) -> Result<usize> {
+        /// Takes as much of `buf` as fits in the chunk (how much); a full
+        /// chunk goes to the writer thread and the next one is filled.
+        /// With `false` the file system refused direct writes: the bytes
+        /// so far are written, buffered, the file position is after them,
+        /// and the caller writes the rest itself.
+        pub(super) fn write(&mut self, buf: &[u8]) -> Result<(usize, bool)> {
             let c = &mut self.chunk;
             let n = (CHUNK - c.len).min(buf.len());
             let at = c.start + c.len;
             c.bytes[at..at + n].copy_from_slice(&buf[..n]);
             c.len += n;
-            if c.len == CHUNK {
-                let next = self.done.recv().map_err(|_| stopped())??;
-                let full = std::mem::replace(&mut self.chunk, next);
-                self.chunk.len = 0;
-                let at = self.at;
-                self.at += CHUNK as u64;
-                self.send(full, at, false)?;
+            if c.len < CHUNK {
+                return Ok((n, true));
             }
-            Ok(n)
+            #[cfg(test)]
+            let refused = self.refuse;
+            #[cfg(not(test))]
+            let refused = false;
+            if self.running.is_none() && !refused {
+                self.running = run(&self.file);
+            }
+            let Some(running) = &self.running else {
+                self.buffered()?;
+                return Ok((n, false));
+            };
+            let next = running.done.recv().map_err(|_| stopped())??;
+            let full = std::mem::replace(&mut self.chunk, next);
+            self.chunk.len = 0;
+            let at = self.at;
+            self.at += CHUNK as u64;
+            running
+                .jobs
+                .send(Job {
+                    chunk: full,
+                    at,
+                    last: false,
+                })
+                .map_err(|_| stopped())?;
+            Ok((n, true))
         }
 
-        fn send(&self, chunk: Chunk, at: u64, last: bool) -> Result<()> {
-            self.jobs
-                .send(Job { chunk, at, last })
-                .map_err(|_| stopped())
+        /// Writes the chunk buffered at its offset and leaves the file
+        /// position after it.
+        fn buffered(&mut self) -> Result<()> {
+            use std::io::{Seek, SeekFrom};
+            self.file.write_all_at(self.chunk.used(), self.at)?;
+            self.file
+                .seek(SeekFrom::Start(self.at + self.chunk.len as u64))?;
+            Ok(())
         }
 
         /// Writes the rest and waits for every write to be done.
-        pub(super) fn finish(self) -> Result<()> {
-            let Writer {
-                chunk,
-                at,
-                jobs,
-                done,
-                thread,
-            } = self;
+        pub(super) fn finish(mut self) -> Result<()> {
+            let Some(Running { jobs, done, thread }) = self.running.take() else {
+                // Less than a chunk in all: one buffered write.
+                return self.buffered();
+            };
             jobs.send(Job {
-                chunk,
-                at,
+                chunk: self.chunk,
+                at: self.at,
                 last: true,
             })
             .map_err(|_| stopped())?;
@@ -324,10 +374,17 @@ mod direct {
         }
 
         /// Moves the chunk being filled one byte off its alignment (tests
-        /// the refusal).
+        /// the refusal of a direct write).
         #[cfg(test)]
         pub(super) fn misalign(&mut self) {
             self.chunk.start += 1;
+        }
+
+        /// Behaves as on a file system that refuses to turn direct
+        /// writes on.
+        #[cfg(test)]
+        pub(super) fn refuse_direct(&mut self) {
+            self.refuse = true;
         }
     }
 
@@ -349,7 +406,7 @@ mod direct {
     }
 
     impl Writer {
-        pub(super) fn write(&mut self, _: &[u8]) -> std::io::Result<usize> {
+        pub(super) fn write(&mut self, _: &[u8]) -> std::io::Result<(usize, bool)> {
             match *self {}
         }
         pub(super) fn finish(self) -> std::io::Result<()> {
@@ -411,20 +468,29 @@ mod tests {
     }
 
     /// A direct write the file system refuses (here: from a misaligned
-    /// buffer, which ext4 and xfs reject) is written buffered instead, and
-    /// the writes after it land after it.
+    /// buffer, which ext4 and xfs reject), or a file system that will not
+    /// turn direct writes on: the bytes are written buffered instead, and
+    /// the writes after them land after them.
     #[cfg(target_os = "linux")]
     #[test]
-    fn a_refused_direct_write_is_written_buffered() {
+    fn refused_direct_writes_are_written_buffered() {
         let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("out.bin");
-        let mut f = AtomicFile::create(&path).unwrap();
-        if let Some(w) = &mut f.direct {
-            w.misalign();
-        }
         let bytes: Vec<u8> = (0..(9 << 20) + 5).map(|k| (k % 251) as u8).collect();
-        f.write_all(&bytes).unwrap();
-        f.commit().unwrap();
-        assert_eq!(std::fs::read(&path).unwrap(), bytes);
+        for refusal in 0..2 {
+            let path = dir.path().join(format!("out{refusal}.bin"));
+            let mut f = AtomicFile::create(&path).unwrap();
+            let w = f.direct.as_mut().unwrap();
+            if refusal == 0 {
+                w.misalign();
+            } else {
+                w.refuse_direct();
+            }
+            f.write_all(&bytes).unwrap();
+            if refusal == 1 {
+                assert!(f.direct.is_none(), "buffered from the first chunk on");
+            }
+            f.commit().unwrap();
+            assert_eq!(std::fs::read(&path).unwrap(), bytes);
+        }
     }
 }
