@@ -140,7 +140,7 @@ fn first_level_at_or_above(brackets: &[Bracket], approx: &[f64], h: f64) -> usiz
     // `f64::ceil` is a library call on baseline x86-64.
     let t = (h - a) / (b - a) * (k - 1) as f64;
     let trunc = t as i64;
-    let ceil = trunc + i64::from((trunc as f64) < t);
+    let ceil = trunc.saturating_add(i64::from((trunc as f64) < t));
     let guess = ceil.clamp(0, k as i64) as usize;
     let left_ok = guess == 0 || below(guess - 1);
     let right_ok = guess == k || !below(guess);
