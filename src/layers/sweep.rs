@@ -31,6 +31,10 @@ use std::sync::{Condvar, Mutex};
 /// Results each worker may compute ahead of the writer.
 const AHEAD: usize = 8;
 
+/// Buckets of entering faces merged one by one into the active set; more
+/// are sorted together first.
+const MERGED_BUCKETS: usize = 4;
+
 /// Why a sweep stopped.
 #[derive(Debug, thiserror::Error)]
 pub enum SweepError<E: std::error::Error + 'static> {
@@ -67,61 +71,89 @@ struct Entry {
 /// levels, touch no level and are left out at once.
 struct Heights {
     grid: Vec<Level>,
-    /// The faces filed under each level, ascending by face.
-    entering: Vec<Vec<Entry>>,
+    /// The faces filed under level `l`, ascending by face:
+    /// `entries[starts[l]..starts[l + 1]]`.
+    entries: Vec<Entry>,
+    starts: Vec<usize>,
 }
 
+/// A face filed under no level.
+const UNFILED: u32 = u32::MAX;
+
 impl Heights {
-    /// Files the faces in parallel (on the current rayon pool) when
-    /// `parallel`, else on this thread; the same result either way.
+    /// Finds each face's level in parallel (on the current rayon pool) when
+    /// `parallel`, else on this thread, then files the faces in one pass (a
+    /// counting sort by level, so each level's faces stay ascending); the
+    /// same result either way.
     fn new(mesh: &Mesh, unit: &Rat, levels: &[Rat], parallel: bool) -> Self {
         let grid: Vec<Level> = levels.iter().map(|c| Level::new(c / unit)).collect();
         let brackets: Vec<Bracket> = grid.iter().map(Level::bracket).collect();
         let approx: Vec<f64> = grid.iter().map(Level::approx).collect();
-        let file = |faces: std::ops::Range<usize>| {
-            let mut entering = vec![Vec::new(); grid.len()];
-            for f in faces {
-                // The plan may be made before validation: a face with a
-                // vertex out of range (a mesh validation refuses) is not
-                // filed.
-                let z = mesh.faces[f].map(|v| mesh.positions.get(v.idx()).map(|p| p[2]));
-                let [Some(a), Some(b), Some(c)] = z else {
-                    continue;
-                };
-                let (lo, hi) = (a.min(b).min(c), a.max(b).max(c));
-                let first = first_level_at_or_above(&brackets, &approx, lo);
-                if first < grid.len() && brackets[first].sign_of(hi) != Sign::Negative {
-                    entering[first].push(Entry {
-                        face: FaceId::from_idx(f),
-                        top: hi,
-                    });
-                }
+        // The plan may be made before validation: a face with a vertex out
+        // of range (a mesh validation refuses) is not filed.
+        let heights = |f: usize| -> Option<(f64, f64)> {
+            let z = mesh.faces[f].map(|v| mesh.positions.get(v.idx()).map(|p| p[2]));
+            let [Some(a), Some(b), Some(c)] = z else {
+                return None;
+            };
+            Some((a.min(b).min(c), a.max(b).max(c)))
+        };
+        let level_of = |f: usize| -> u32 {
+            let Some((lo, hi)) = heights(f) else {
+                return UNFILED;
+            };
+            let first = first_level_at_or_above(&brackets, &approx, lo);
+            if first < grid.len() && brackets[first].sign_of(hi) != Sign::Negative {
+                first as u32
+            } else {
+                UNFILED
             }
-            entering
         };
         let n = mesh.num_faces();
-        let runs = rayon::current_num_threads();
-        if !parallel || n < par::MIN_LEN || runs < 2 {
-            return Heights {
-                entering: file(0..n),
-                grid,
-            };
+        let filed: Vec<u32> = if parallel && n >= par::MIN_LEN {
+            (0..n)
+                .into_par_iter()
+                .with_min_len(par::MIN_LEN)
+                .map(level_of)
+                .collect()
+        } else {
+            (0..n).map(level_of).collect()
+        };
+        let mut starts = vec![0usize; grid.len() + 1];
+        for &l in filed.iter().filter(|&&l| l != UNFILED) {
+            starts[l as usize + 1] += 1;
         }
-        // Runs of consecutive faces filed in parallel, then each level's
-        // lists joined in run order (so still ascending by face).
-        let parts: Vec<Vec<Vec<Entry>>> = (0..runs)
-            .into_par_iter()
-            .map(|r| file(r * n / runs..(r + 1) * n / runs))
-            .collect();
-        let entering = (0..grid.len())
-            .into_par_iter()
-            .map(|l| {
-                let mut all = Vec::with_capacity(parts.iter().map(|p| p[l].len()).sum());
-                parts.iter().for_each(|p| all.extend_from_slice(&p[l]));
-                all
-            })
-            .collect();
-        Heights { grid, entering }
+        for l in 0..grid.len() {
+            starts[l + 1] += starts[l];
+        }
+        let mut fill = starts.clone();
+        let mut entries = vec![
+            Entry {
+                face: FaceId::from_idx(0),
+                top: 0.0,
+            };
+            starts[grid.len()]
+        ];
+        for (f, &l) in filed.iter().enumerate() {
+            if let (true, Some((_, top))) = (l != UNFILED, heights(f)) {
+                let slot = &mut fill[l as usize];
+                entries[*slot] = Entry {
+                    face: FaceId::from_idx(f),
+                    top,
+                };
+                *slot += 1;
+            }
+        }
+        Heights {
+            grid,
+            entries,
+            starts,
+        }
+    }
+
+    /// The faces filed under level `l`, ascending.
+    fn bucket(&self, l: usize) -> &[Entry] {
+        &self.entries[self.starts[l]..self.starts[l + 1]]
     }
 }
 
@@ -179,42 +211,53 @@ impl<'h> Sweep<'h> {
 
     /// Moves the plane up to level `index`: faces the plane has passed
     /// leave, faces filed up to `index` enter, and `active` stays
-    /// ascending (one merge, no sort of the active set). Indices must come
-    /// in ascending order.
+    /// ascending (no sort of the active set). Indices must come in
+    /// ascending order.
     fn advance(&mut self, index: usize) {
         let h = self.heights;
         let level = h.grid[index].bracket();
         let touching = |e: &Entry| level.sign_of(e.top) != Sign::Negative;
         self.active.retain(touching);
-        let mut entering: Vec<Entry> = h.entering[self.next.min(index + 1)..=index]
-            .iter()
-            .flatten()
-            .copied()
-            .filter(touching)
-            .collect();
+        let buckets = (self.next.min(index + 1)..=index).map(|l| h.bucket(l));
         self.next = self.next.max(index + 1);
-        if !entering.is_empty() {
-            // Each bucket is ascending; several (a worker skipping levels)
-            // are not.
-            entering.sort_unstable_by_key(|e| e.face);
-            self.merged.clear();
-            self.merged.reserve(self.active.len() + entering.len());
-            let (mut i, mut j) = (0, 0);
-            while i < self.active.len() && j < entering.len() {
-                if self.active[i].face < entering[j].face {
-                    self.merged.push(self.active[i]);
-                    i += 1;
-                } else {
-                    self.merged.push(entering[j]);
-                    j += 1;
-                }
+        // Each bucket is ascending. A worker that skipped a few levels (the
+        // others took them) merges their buckets one by one; after many,
+        // one sort of them all is cheaper.
+        if buckets.clone().filter(|b| !b.is_empty()).count() <= MERGED_BUCKETS {
+            for bucket in buckets {
+                self.merge_in(bucket.iter().copied().filter(touching));
             }
-            self.merged.extend_from_slice(&self.active[i..]);
-            self.merged.extend_from_slice(&entering[j..]);
-            std::mem::swap(&mut self.active, &mut self.merged);
+        } else {
+            let mut entering: Vec<Entry> = buckets.flatten().copied().filter(touching).collect();
+            entering.sort_unstable_by_key(|e| e.face);
+            self.merge_in(entering.into_iter());
         }
         self.faces.clear();
         self.faces.extend(self.active.iter().map(|e| e.face));
+    }
+
+    /// Merges entries ascending by face (none of them active) into `active`.
+    fn merge_in(&mut self, mut entering: impl Iterator<Item = Entry>) {
+        let Some(mut next) = entering.next() else {
+            return;
+        };
+        self.merged.clear();
+        self.merged
+            .reserve(self.active.len() + entering.size_hint().0 + 1);
+        let mut i = 0;
+        loop {
+            while i < self.active.len() && self.active[i].face < next.face {
+                self.merged.push(self.active[i]);
+                i += 1;
+            }
+            self.merged.push(next);
+            match entering.next() {
+                Some(e) => next = e,
+                None => break,
+            }
+        }
+        self.merged.extend_from_slice(&self.active[i..]);
+        std::mem::swap(&mut self.active, &mut self.merged);
     }
 
     /// Advances to level `index` (`c` in the mesh's units) and slices it.
@@ -523,6 +566,51 @@ mod tests {
             for h in [-1e300, 1e300, -7.0, f64::MIN_POSITIVE] {
                 let plain = levels.partition_point(|c| rat_from_f64(h) > *c);
                 proptest::prop_assert_eq!(first_level_at_or_above(&brackets, &approx, h), plain);
+            }
+        }
+
+        /// However a worker skips levels (one bucket at a time, a few merged
+        /// one by one, or many sorted together), its active faces at each
+        /// level it visits are exactly the faces whose heights span the
+        /// level, ascending. Faces: random height ranges on a coarse grid
+        /// (many on levels, many spanning several).
+        #[test]
+        fn advancing_gives_the_faces_touching_each_level(
+            spans in proptest::collection::vec((0i32..40, 0i32..12), 1..300),
+            skips in proptest::collection::vec(1usize..12, 1..40),
+        ) {
+            // Face f is a vertical triangle spanning heights lo..=lo+len (in
+            // quarters); levels at every half.
+            let mut positions = Vec::new();
+            let mut faces = Vec::new();
+            for (f, &(lo, len)) in spans.iter().enumerate() {
+                let (a, b) = (f64::from(lo) / 4.0, f64::from(lo + len) / 4.0);
+                positions.extend([[f as f64, 0.0, a], [f as f64, 1.0, a], [f as f64, 0.0, b]]);
+                let v = 3 * f as u32;
+                faces.push([v, v + 1, v + 2]);
+            }
+            let mesh = Mesh::from_raw(positions, faces);
+            let levels: Vec<Rat> = (0..30).map(|k| Rat::new(k.into(), 2.into())).collect();
+            let heights = Heights::new(&mesh, &Rat::from_integer(1.into()), &levels, false);
+            let mut sweep = Sweep::new(&heights);
+            let mut index = 0;
+            for skip in skips {
+                index += skip - 1;
+                if index >= levels.len() {
+                    break;
+                }
+                sweep.advance(index);
+                let c = &levels[index];
+                let touching: Vec<FaceId> = spans
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, &(lo, len))| {
+                        Rat::new(lo.into(), 4.into()) <= *c && *c <= Rat::new((lo + len).into(), 4.into())
+                    })
+                    .map(|(f, _)| FaceId::from_idx(f))
+                    .collect();
+                proptest::prop_assert_eq!(&sweep.faces, &touching, "level {}", index);
+                index += 1;
             }
         }
     }
