@@ -2,8 +2,9 @@
 //! element ids, and `wmslice check` exiting non-zero naming the defect.
 
 use std::process::Command;
+use wmslice::datasets;
 use wmslice::ids::{FaceId, VertexId};
-use wmslice::mesh::validate::{validate, Defect};
+use wmslice::mesh::validate::{accept, validate, Defect};
 use wmslice::Mesh;
 
 const TETRA_POS: [[f64; 3]; 4] = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]];
@@ -322,4 +323,64 @@ fn validation_reports_the_same_on_one_and_on_several_threads() {
     ] {
         assert!(kinds.contains(&std::mem::discriminant(&kind)), "{kind:?}");
     }
+}
+
+#[test]
+fn accepting_for_slicing_agrees_with_validation() {
+    // `accept` skips the exact volume when a certified float sum shows it
+    // positive: the verdict, and the report of a rejected mesh (volume
+    // included), must be validation's.
+    let mut inside_out = tetra();
+    inside_out.faces.iter_mut().for_each(|t| t.swap(1, 2));
+    let mut open = tetra();
+    open.faces.pop();
+    // Moved off the origin and without face 0: the three faces left sum to
+    // 1/6 (the tetrahedron) minus face 0's -1/6 (det of (1,1,1), (1,2,1),
+    // (2,1,1) is -1): 1/3, positive, so the filter decides it and the exact
+    // value is made only for the report.
+    let mut open_moved = tetra();
+    open_moved
+        .positions
+        .iter_mut()
+        .flatten()
+        .for_each(|x| *x += 1.0);
+    open_moved.faces.remove(0);
+    let mut flat = tetra();
+    flat.positions[3] = [0.25, 0.25, 0.0];
+    let mut meshes = vec![
+        ("inside out".to_string(), inside_out),
+        ("open".to_string(), open),
+        ("open, moved".to_string(), open_moved),
+        ("flat".to_string(), flat),
+        ("sliver".to_string(), with_sliver(TETRA_POS[3])),
+        (
+            "two tetrahedra".to_string(),
+            two_tetras([3., 0., 0.], [4, 5, 6, 7]),
+        ),
+    ];
+    for d in datasets::all() {
+        meshes.push((d.name.to_string(), d.build()));
+    }
+    let mut rejected = 0;
+    for (name, m) in &meshes {
+        let full = validate(m);
+        match accept(m) {
+            Ok(topo) => {
+                assert!(full.is_accepted(), "{name}: accepted, but {full}");
+                assert_eq!(topo.num_edges(), full.stats.edges, "{name}");
+                assert_eq!(Some(topo.face_edges), full.topology.map(|t| t.face_edges));
+            }
+            Err(report) => {
+                rejected += 1;
+                assert!(!full.is_accepted(), "{name}: rejected, but {full}");
+                assert_eq!(report.defects, full.defects, "{name}");
+                assert_eq!(report.stats, full.stats, "{name}");
+                assert_eq!(report.volume, full.volume, "{name}");
+                if name == "open, moved" {
+                    assert_eq!(report.stats.volume, "1/3");
+                }
+            }
+        }
+    }
+    assert_eq!(rejected, 4);
 }

@@ -1,5 +1,6 @@
 //! Input: mesh positions and faces. Output: the exact signed volume
-//! `1/6 sum det(v0, v1, v2)` as a rational.
+//! `1/6 sum det(v0, v1, v2)` as a rational, or only its sign when a
+//! floating-point sum with a certified error bound decides it.
 //!
 //! Every finite double is `k * 2^e`; all coordinates are brought to the
 //! smallest exponent present, so each determinant is an integer. When the
@@ -7,6 +8,7 @@
 //! the sum runs in `i128`; otherwise in `BigInt`. Both are exact.
 
 use super::dyadic::Dyadic;
+use super::predicates::Sign;
 use super::rational::{decompose, Rat};
 use crate::mesh::Mesh;
 use num_bigint::BigInt;
@@ -85,6 +87,69 @@ pub fn signed_volume(mesh: &Mesh) -> Rat {
         wide.add(&BigInt::from(v), e);
     }
     wide.to_rat_times_pow2(0) / Rat::from_integer(6.into())
+}
+
+/// The sign of [`signed_volume`] when a floating-point sum decides it,
+/// else `None` (then only the exact sum can tell).
+///
+/// Each determinant `a . (b x c)` is computed in `f64` with five roundings
+/// per product `a_i b_j c_k` (error at most `5u/(1-5u)` times the face's
+/// permanent `sum |a_i b_j c_k|`, `u = 2^-53`), and the terms are summed in
+/// any order (error at most `(n-1)u/(1-(n-1)u)` times the sum of their
+/// magnitudes). Underflow adds at most `2^-1074` per product, amplified by
+/// at most `|a|_1 <= 3 max|x|` per face. The sum decides when it exceeds
+/// the bound `6u P + (n+1)u A + (6 max|x| + 3)(n+1) 2^-1074` times 17/16
+/// (the spare covers the rounding of the bound itself and the growth of
+/// the factors for `n < 2^40`). Non-finite coordinates, an overflow, or a
+/// face with an index out of range give `None`.
+pub fn volume_sign_filter(mesh: &Mesh) -> Option<Sign> {
+    const U: f64 = f64::EPSILON / 2.0;
+    let n = mesh.num_faces();
+    if n >= 1 << 40 {
+        return None;
+    }
+    let max_abs = mesh
+        .positions
+        .iter()
+        .flatten()
+        .try_fold(0.0f64, |m, &x| x.is_finite().then(|| m.max(x.abs())))?;
+    // Per face: its determinant, the determinant's magnitude, and its
+    // permanent; `None` for a face with an index out of range.
+    let face = |tri: &[crate::ids::VertexId; 3]| -> Option<[f64; 3]> {
+        let p = |k: usize| mesh.positions.get(tri[k].idx()).copied();
+        let (a, b, c) = (p(0)?, p(1)?, p(2)?);
+        let products = [
+            [b[1] * c[2], b[2] * c[1]],
+            [b[2] * c[0], b[0] * c[2]],
+            [b[0] * c[1], b[1] * c[0]],
+        ];
+        let mut det = 0.0;
+        let mut permanent = 0.0;
+        for (ai, [p, q]) in a.iter().zip(products) {
+            det += ai * (p - q);
+            permanent += ai.abs() * (p.abs() + q.abs());
+        }
+        Some([det, det.abs(), permanent])
+    };
+    let add = |x: [f64; 3], y: [f64; 3]| Some([x[0] + y[0], x[1] + y[1], x[2] + y[2]]);
+    let [sum, magnitudes, permanents] = mesh
+        .faces
+        .par_iter()
+        .with_min_len(crate::par::MIN_LEN)
+        .map(face)
+        .try_reduce(|| [0.0; 3], add)?;
+    let m = n as f64 + 1.0;
+    let underflow = (6.0 * max_abs + 3.0) * m * f64::from_bits(1);
+    let bound = (6.0 * U * permanents + m * U * magnitudes + underflow) * 1.0625;
+    if !(sum.is_finite() && bound.is_finite()) {
+        None
+    } else if sum > bound {
+        Some(Sign::Positive)
+    } else if sum < -bound {
+        Some(Sign::Negative)
+    } else {
+        None
+    }
 }
 
 /// A partial sum of face determinants: `i128` buckets per exponent, and
@@ -174,6 +239,7 @@ fn det3_i128(a: [i128; 3], b: [i128; 3], c: [i128; 3]) -> i128 {
 mod tests {
     use super::*;
     use crate::exact::rational::rat_from_f64;
+    use num_traits::Signed;
 
     fn reference(mesh: &Mesh) -> Rat {
         let mut acc = Rat::zero();
@@ -208,6 +274,22 @@ mod tests {
     }
 
     #[test]
+    fn the_filter_decides_ordinary_meshes() {
+        for e in [-300, -40, 0, 40, 300] {
+            let mut m = tetra(2f64.powi(e), [0.0; 3]);
+            assert_eq!(volume_sign_filter(&m), Some(Sign::Positive), "2^{e}");
+            m.faces.iter_mut().for_each(|t| t.swap(1, 2));
+            assert_eq!(volume_sign_filter(&m), Some(Sign::Negative), "2^{e}");
+        }
+        for d in crate::datasets::all() {
+            let m = d.build();
+            assert_eq!(volume_sign_filter(&m), Some(Sign::Positive), "{}", d.name);
+        }
+        // Overflowing products decide nothing.
+        assert_eq!(volume_sign_filter(&tetra(1e200, [0.0; 3])), None);
+    }
+
+    #[test]
     fn tetrahedron_volume_both_paths() {
         // Small integers: i128 path.
         let m = tetra(6.0, [0.0, 0.0, 0.0]);
@@ -236,6 +318,37 @@ mod tests {
             let f = if decimal { 0.1 } else { 2f64.powi(scale_exp) };
             let m = tetra(s * f, t.map(|x| x as f64 * f));
             proptest::prop_assert_eq!(signed_volume(&m), reference(&m));
+        }
+
+        /// The filter's sign, when it gives one, is the exact volume's (so
+        /// none on flat, zero-volume tetrahedra); far from the origin
+        /// (cancellation), at subnormal and at huge scales it may give
+        /// none, but never a wrong sign.
+        #[test]
+        fn the_filtered_sign_is_never_wrong(
+            s in -1000i32..1000, t in proptest::array::uniform3(-1_000_000i64..1_000_000),
+            scale_exp in -1100i32..1000, offset_exp in -60i32..60, flat in proptest::bool::ANY,
+        ) {
+            let s = if s == 0 { 1.0 } else { f64::from(s) };
+            let f = 2f64.powi(scale_exp);
+            let o = 2f64.powi(offset_exp);
+            let mut m = tetra(s * f, t.map(|x| x as f64 * o));
+            if flat {
+                // The apex into the base's plane: volume exactly zero.
+                let base = m.positions[0][2];
+                m.positions[3][2] = base;
+            }
+            let exact = signed_volume(&m);
+            let sign = if exact.is_zero() {
+                Sign::Zero
+            } else if exact.is_positive() {
+                Sign::Positive
+            } else {
+                Sign::Negative
+            };
+            if let Some(filtered) = volume_sign_filter(&m) {
+                proptest::prop_assert_eq!(filtered, sign);
+            }
         }
 
         /// Meshes of f32 coordinates spread over many binary exponents

@@ -22,7 +22,7 @@ use crate::exact::rational::{rat_to_f64, Rat};
 use crate::exact::{Level, Point2, Sign};
 use crate::ids::{EdgeId, FaceId, VertexId};
 use crate::mesh::topology::Topology;
-use crate::mesh::validate::{validate, Report};
+use crate::mesh::validate::{accept, Report};
 use crate::mesh::Mesh;
 use crate::nest::{nest_filtered, Reversals, Role};
 use crate::segment::{edge_segments, face_segment, Carrier, CutPoint, Segment, Via};
@@ -202,15 +202,9 @@ impl<'m> Slicer<'m> {
     pub fn with_unit(mesh: &'m Mesh, unit: Rat) -> Result<Self, SliceError> {
         // The grid (a pass over the coordinates) beside validation.
         let parallel = mesh.num_faces() >= crate::par::MIN_LEN;
-        let (mut report, grid) = crate::par::join(
-            parallel,
-            || validate(mesh),
-            || MeshGrid::new(&mesh.positions),
-        );
-        if !report.is_accepted() {
-            return Err(SliceError::InvalidMesh(Box::new(report)));
-        }
-        let topo = report.topology.take().unwrap_or_default();
+        let (accepted, grid) =
+            crate::par::join(parallel, || accept(mesh), || MeshGrid::new(&mesh.positions));
+        let topo = accepted.map_err(SliceError::InvalidMesh)?;
         Ok(Slicer {
             mesh,
             topo,

@@ -55,7 +55,7 @@ pub use json::JsonError;
 pub use report::{Checked, Family, Place, Problem, Report, Violation};
 
 use crate::exact::rational::{rat_to_string, Rat};
-use crate::mesh::validate::{validate, Defect};
+use crate::mesh::validate::{accept, Defect};
 use crate::mesh::Mesh;
 use crate::output::json::mesh_sha256;
 use num_traits::One;
@@ -130,17 +130,10 @@ pub fn verify_value(
 
 /// Validates the mesh and builds what every level shares.
 fn prepare<'m>(mesh: &'m Mesh, unit: Option<&Rat>) -> Result<level::MeshCtx<'m>, VerifyError> {
-    let mut validation = validate(mesh);
-    if !validation.is_accepted() {
-        return Err(VerifyError::MeshRejected {
-            first: validation.errors().next().cloned(),
-            count: validation.errors().count() + validation.unlisted,
-        });
-    }
-    let topo = match validation.topology.take() {
-        Some(t) => t,
-        None => crate::mesh::topology::Topology::build(mesh).0,
-    };
+    let topo = accept(mesh).map_err(|report| VerifyError::MeshRejected {
+        first: report.errors().next().cloned(),
+        count: report.errors().count() + report.unlisted,
+    })?;
     Ok(level::MeshCtx {
         mesh,
         topo,
