@@ -135,14 +135,16 @@ impl Heights {
             starts[grid.len()]
         ];
         for (f, &l) in filed.iter().enumerate() {
-            if let (true, Some((_, top))) = (l != UNFILED, heights(f)) {
-                let slot = &mut fill[l as usize];
-                entries[*slot] = Entry {
-                    face: FaceId::from_idx(f),
-                    top,
-                };
-                *slot += 1;
-            }
+            // A filed face has its heights.
+            let Some((_, top)) = heights(f).filter(|_| l != UNFILED) else {
+                continue;
+            };
+            let slot = &mut fill[l as usize];
+            entries[*slot] = Entry {
+                face: FaceId::from_idx(f),
+                top,
+            };
+            *slot += 1;
         }
         Heights {
             grid,

@@ -252,8 +252,7 @@ pub fn validate(mesh: &Mesh) -> Report {
 /// whole [`Report`] (as [`validate`] makes it). The verdict is
 /// [`validate`]'s, exactly; an accepted mesh is decided faster, as its
 /// exact volume is not computed when a floating-point sum with a certified
-/// error bound shows it positive
-/// ([`volume_sign_filter`]).
+/// error bound shows it positive ([`volume_sign_filter`]).
 pub fn accept(mesh: &Mesh) -> Result<Topology, Box<Report>> {
     let (mut report, volume_computed) = validate_with(mesh, VolumeNeed::Sign);
     if report.is_accepted() {
