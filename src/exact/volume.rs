@@ -103,6 +103,8 @@ pub fn signed_volume(mesh: &Mesh) -> Rat {
 /// the factors for `n < 2^40`). Non-finite coordinates, an overflow, or a
 /// face with an index out of range give `None`.
 pub fn volume_sign_filter(mesh: &Mesh) -> Option<Sign> {
+    // The unit roundoff of `f64`, for the certified bound (not a
+    // tolerance: a sum the bound does not decide goes to the exact sum).
     const U: f64 = f64::EPSILON / 2.0;
     let n = mesh.num_faces();
     if n >= 1 << 40 {
