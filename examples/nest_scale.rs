@@ -3,7 +3,7 @@
 
 use std::time::Instant;
 use wmslice::exact::point::LoopPoint;
-use wmslice::nest::nest;
+use wmslice::nest::nest_points;
 
 fn square(x: i64, y: i64, s: i64) -> Vec<LoopPoint> {
     let p = |x: i64, y: i64| LoopPoint::from_integers(x.into(), y.into(), 1, 0).unwrap();
@@ -21,7 +21,7 @@ fn main() {
             .map(|i| square(3 * (i % side), 3 * (i / side), 2))
             .collect();
         let t = Instant::now();
-        let nested = nest(&loops);
+        let nested = nest_points(&loops);
         println!(
             "{k} side-by-side squares: {:.3} s ({} outer)",
             t.elapsed().as_secs_f64(),

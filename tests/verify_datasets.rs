@@ -123,6 +123,11 @@ proptest! {
                 prop_assert!(!r.passed(), "deleting loop {l} of list {f} at {c} passed");
                 let mut doc = clean.clone();
                 let lp = &mut loop_lists(&mut doc)[f][l];
+                // A collapsed limit of one or two points (around an
+                // extremum, along one edge and back) reads the same both ways.
+                if lp.get_mut("on").unwrap().as_array_mut().unwrap().len() <= 2 {
+                    continue;
+                }
                 for k in ["points", "exact", "on"] {
                     lp.get_mut(k).unwrap().as_array_mut().unwrap().reverse();
                 }

@@ -81,6 +81,18 @@ impl Interval {
         Interval::widen(lo, hi)
     }
 
+    /// The order of the exact values two disjoint intervals enclose.
+    #[inline]
+    fn cmp_with(self, o: Interval) -> Option<std::cmp::Ordering> {
+        if self.hi < o.lo {
+            Some(std::cmp::Ordering::Less)
+        } else if self.lo > o.hi {
+            Some(std::cmp::Ordering::Greater)
+        } else {
+            None
+        }
+    }
+
     /// The sign, when the interval decides it (finite and away from zero).
     #[inline]
     fn sign(self) -> Option<Sign> {
@@ -225,14 +237,14 @@ impl<'a> FilteredPoint<'a> {
 
 /// Exact comparison of the y coordinates of two points (filtered).
 pub fn cmp_y(a: &FilteredPoint<'_>, b: &FilteredPoint<'_>) -> std::cmp::Ordering {
-    let (ay, by) = (a.iy, b.iy);
-    if ay.hi < by.lo {
-        std::cmp::Ordering::Less
-    } else if ay.lo > by.hi {
-        std::cmp::Ordering::Greater
-    } else {
-        a.exact.exact().y.cmp(&b.exact.exact().y)
-    }
+    a.iy.cmp_with(b.iy)
+        .unwrap_or_else(|| a.exact.exact().y.cmp(&b.exact.exact().y))
+}
+
+/// Exact comparison of the x coordinates of two points (filtered).
+pub fn cmp_x(a: &FilteredPoint<'_>, b: &FilteredPoint<'_>) -> std::cmp::Ordering {
+    a.ix.cmp_with(b.ix)
+        .unwrap_or_else(|| a.exact.exact().x.cmp(&b.exact.exact().x))
 }
 
 /// Exact orientation of three points: the filter when it decides, else the

@@ -10,6 +10,8 @@ pub mod dyadic;
 pub mod filter;
 pub mod grid;
 pub mod level;
+pub mod perturbed;
+pub mod planar;
 pub mod point;
 pub mod predicates;
 pub mod rational;

@@ -7,6 +7,7 @@
 //! mesh's units. Rounding happens only in `output`.
 
 pub mod check;
+mod limits;
 pub mod ridges;
 
 use crate::chain::{chain_loops, ChainError};
@@ -24,10 +25,10 @@ use crate::ids::{EdgeId, FaceId, VertexId};
 use crate::mesh::topology::Topology;
 use crate::mesh::validate::{accept, Report};
 use crate::mesh::Mesh;
-use crate::nest::{nest_filtered, Reversals, Role};
+use crate::nest::{nest, Family, Role};
 use crate::segment::{edge_segments, face_segment, Carrier, CutPoint, Segment, Via};
 use num_traits::One;
-use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
+use rustc_hash::FxHashMap as HashMap;
 use std::sync::Arc;
 
 /// A closed, oriented loop with exact points.
@@ -49,6 +50,15 @@ pub struct Loop {
     pub role: Role,
     /// Index of the smallest enclosing loop of the same family.
     pub parent: Option<usize>,
+    /// L-, L+ only: the loop has collapsed in the limit (SPEC section 6):
+    /// it runs only along ridges or valleys, or around an extremum, so
+    /// the material (or void) it bounds on one side has zero area at the
+    /// level. Its orientation and role are those at `c -/+ epsilon`.
+    pub collapsed: bool,
+    /// L-, L+ at a level with a vertex on the plane: the edges the loop
+    /// crosses at `c -/+ epsilon`, in order (its structure; `cuts` are
+    /// their limits, merged). Empty otherwise.
+    pub crossings: Vec<EdgeId>,
 }
 
 impl Loop {
@@ -297,15 +307,6 @@ pub(crate) fn touches(mesh: &Mesh, f: FaceId, level: &Level) -> bool {
     s.contains(&Sign::Zero) || (s.contains(&Sign::Positive) && s.contains(&Sign::Negative))
 }
 
-/// Which kind of loops are being chained.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Family {
-    /// S_O or dF: segments never run both ways, loops never collapse.
-    Exact,
-    /// L- or L+: regularized limits, where both may happen.
-    OneSided,
-}
-
 struct LevelBuilder<'a> {
     mesh: &'a Mesh,
     topo: &'a Topology,
@@ -414,7 +415,7 @@ impl<'a> LevelBuilder<'a> {
             carriers.push(self.carrier(s.from));
             segments.push(s);
         }
-        let contours = Arc::new(self.loops_with(&segments, Some(&carriers), Family::Exact)?);
+        let contours = Arc::new(self.loops_with(&segments, Some(&carriers))?);
 
         // Saddles: on-plane vertices with 2m >= 4 S_O branches.
         let mut branches: HashMap<VertexId, u32> = HashMap::default();
@@ -509,74 +510,25 @@ impl<'a> LevelBuilder<'a> {
         Ok(ls)
     }
 
-    /// L- or L+ by symbolic perturbation (SPEC section 6): every crossing
-    /// is strict; a crossing on an edge with an end on the plane sits at
-    /// that end. The limit is then regularized: segments that collapse to a
-    /// point (around an extremum) and pairs that run both ways along one
-    /// edge (zero-width cracks and spikes, e.g. just below a ridge) bound no
-    /// material and are removed; what remains is chained by the vertex rule
-    /// of section 5 and nested. Loops of zero exact area are dropped.
-    fn one_sided(&self, side: Side) -> Result<Vec<Loop>, SliceError> {
-        let perturbed = self.signs.perturbed(side);
-        // A crossing on an edge with an end on the plane sits at that end.
-        let place = |c: CutPoint, [a, b]: Carrier| match c {
-            CutPoint::OnEdge(_) if self.signs.is_zero(a) => (CutPoint::AtVertex(a), [a; 2]),
-            CutPoint::OnEdge(_) if self.signs.is_zero(b) => (CutPoint::AtVertex(b), [b; 2]),
-            c => (c, [a, b]),
-        };
-        let mut placed: Vec<Segment> = Vec::new();
-        let mut carriers: Vec<Carrier> = Vec::new();
-        for &f in self.active {
-            let tri = self.mesh.faces[f.idx()];
-            let s = tri.map(|v| perturbed.of(v));
-            let Some((seg, [start, end])) = face_segment(self.topo, f, tri, s) else {
-                continue;
-            };
-            let (from, start) = place(seg.from, start);
-            let (to, _) = place(seg.to, end);
-            if from != to {
-                placed.push(Segment {
-                    from,
-                    to,
-                    via: seg.via,
-                });
-                carriers.push(start);
-            }
-        }
-        // Only a segment between two vertices can have a reverse: a
-        // crossing strictly inside an edge is an end of the two segments
-        // of that edge's faces, which share no other element there.
-        let between_vertices = |s: &Segment| {
-            matches!(
-                (s.from, s.to),
-                (CutPoint::AtVertex(_), CutPoint::AtVertex(_))
-            )
-        };
-        let index: HashSet<(CutPoint, CutPoint)> = placed
-            .iter()
-            .filter(|s| between_vertices(s))
-            .map(|s| (s.from, s.to))
-            .collect();
-        let (kept, kept_carriers): (Vec<Segment>, Vec<Carrier>) = placed
-            .iter()
-            .zip(&carriers)
-            .filter(|(s, _)| !(between_vertices(s) && index.contains(&(s.to, s.from))))
-            .map(|(s, c)| (*s, *c))
-            .unzip();
-        self.loops_with(&kept, Some(&kept_carriers), Family::OneSided)
-    }
-
     fn loops(&self, segments: &[Segment]) -> Result<Vec<Loop>, SliceError> {
-        self.loops_with(segments, None, Family::Exact)
+        self.loops_with(segments, None)
     }
 
-    /// Chains, computes exact points, decides orientations and nests.
-    /// `carriers[i]`, when given, carries the start of `segments[i]`.
+    /// An internal error at this level.
+    fn invariant(&self, what: String) -> SliceError {
+        SliceError::Invariant {
+            level: crate::exact::rational::rat_to_string(self.level.value()),
+            what,
+        }
+    }
+
+    /// Chains S_O or dF segments, computes exact points, decides
+    /// orientations and nests. `carriers[i]`, when given, carries the
+    /// start of `segments[i]`.
     fn loops_with(
         &self,
         segments: &[Segment],
         carriers: Option<&[Carrier]>,
-        family: Family,
     ) -> Result<Vec<Loop>, SliceError> {
         let chains = chain_loops(self.topo, segments)?;
         let start = |i: usize| {
@@ -584,7 +536,7 @@ impl<'a> LevelBuilder<'a> {
             let carrier = carriers.map_or_else(|| self.carrier(c), |k| k[i]);
             (c, self.cut_point(c, carrier))
         };
-        let mut shapes: Vec<(Vec<CutPoint>, Vec<LoopPoint>)> = chains
+        let shapes: Vec<(Vec<CutPoint>, Vec<LoopPoint>)> = chains
             .iter()
             .map(|ch| ch.iter().map(|&i| start(i)).unzip())
             .collect();
@@ -597,34 +549,62 @@ impl<'a> LevelBuilder<'a> {
             .zip(&shapes)
             .map(|(f, (_, pts))| orientation_of(f, pts))
             .collect();
-        let kept: Vec<usize> = (0..shapes.len())
-            .filter(|&i| !(family == Family::OneSided && orientations[i].0 == Sign::Zero))
-            .collect();
-        let mut kept_filtered: Vec<Vec<FilteredPoint<'_>>> = kept
-            .iter()
-            .map(|&i| std::mem::take(&mut filtered[i]))
-            .collect();
-        let reversals = match family {
-            Family::Exact => Reversals::Impossible,
-            Family::OneSided => Reversals::Possible,
+        let nesting = if shapes.len() < 2 {
+            Vec::new()
+        } else {
+            filtered
+                .iter_mut()
+                .flatten()
+                .for_each(FilteredPoint::enclose);
+            let signs: Vec<Sign> = orientations.iter().map(|o| o.0).collect();
+            let reps = representatives(shapes.iter().map(|(cuts, _)| cuts.as_slice()));
+            nest(&Family {
+                loops: &filtered,
+                orientation: &signs,
+                representative: &reps,
+            })
         };
-        let nesting = nest_filtered(&mut kept_filtered, reversals);
-        drop((kept_filtered, filtered));
-        let mut loops = Vec::with_capacity(kept.len());
-        for (&i, n) in kept.iter().zip(nesting) {
-            let (cuts, points) = std::mem::take(&mut shapes[i]);
+        drop(filtered);
+        let mut loops = Vec::with_capacity(shapes.len());
+        for (i, (cuts, points)) in shapes.into_iter().enumerate() {
             let (orientation, area_approx) = orientations[i];
+            let (role, parent) = nesting
+                .get(i)
+                .map_or((Role::Outer, None), |n| (n.role, n.parent));
             loops.push(Loop {
                 cuts,
                 points,
                 orientation,
                 area_approx,
-                role: n.role,
-                parent: n.parent,
+                role,
+                parent,
+                collapsed: false,
+                crossings: Vec::new(),
             });
         }
         Ok(loops)
     }
+}
+
+/// For each loop of S_O or dF, a point on no other loop of its family: an
+/// edge crossing (each edge is crossed once), or a vertex no other loop
+/// passes (loops meet only at vertices on the plane, and a segment's
+/// interior, in a face or along an edge, holds no vertex).
+fn representatives<'c>(loops: impl Iterator<Item = &'c [CutPoint]> + Clone) -> Vec<Option<usize>> {
+    let mut count: HashMap<VertexId, u32> = HashMap::default();
+    for c in loops.clone().flatten() {
+        if let CutPoint::AtVertex(v) = c {
+            *count.entry(*v).or_default() += 1;
+        }
+    }
+    loops
+        .map(|cuts| {
+            cuts.iter().position(|c| match c {
+                CutPoint::OnEdge(_) => true,
+                CutPoint::AtVertex(v) => count.get(v) == Some(&1),
+            })
+        })
+        .collect()
 }
 
 /// SPEC 7.3, checked exactly: outer loops of S_O, L- and L+ have positive

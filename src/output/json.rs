@@ -225,6 +225,10 @@ fn json_loop(out: &mut Vec<u8>, l: &Loop, ex: Exactness) {
         Some(p) => integer(out, p as u64),
         None => out.extend_from_slice(b"null"),
     }
+    if l.collapsed {
+        key(out, "collapsed", false);
+        out.extend_from_slice(b"true");
+    }
     out.push(b'}');
 }
 
@@ -393,6 +397,8 @@ mod tests {
         area_exact: Option<String>,
         role: Role,
         parent: Option<usize>,
+        #[serde(skip_serializing_if = "std::ops::Not::not")]
+        collapsed: bool,
     }
 
     #[derive(Serialize)]
@@ -463,6 +469,7 @@ mod tests {
             area_exact: exact_area.as_ref().map(rat_to_string),
             role: l.role,
             parent: l.parent,
+            collapsed: l.collapsed,
         }
     }
 

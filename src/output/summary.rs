@@ -108,20 +108,22 @@ pub fn summary(ls: &LevelSet) -> String {
             .collect();
         let _ = writeln!(s, "  saddles      : {}", list.join(", "));
     }
-    let (bo, bh) = roles(&ls.below);
-    let (ao, ah) = roles(&ls.above);
-    let _ = writeln!(
-        s,
-        "  below L-     : {} loops ({bo} outer, {bh} hole), area {}",
-        ls.below.len(),
-        loops_area_text(&ls.below)
-    );
-    let _ = write!(
-        s,
-        "  above L+     : {} loops ({ao} outer, {ah} hole), area {}",
-        ls.above.len(),
-        loops_area_text(&ls.above)
-    );
+    let limit = |loops: &[Loop]| {
+        let (outer, hole) = roles(loops);
+        let collapsed = loops.iter().filter(|l| l.collapsed).count();
+        let note = if collapsed > 0 {
+            format!(", {collapsed} collapsed")
+        } else {
+            String::new()
+        };
+        format!(
+            "{} loops ({outer} outer, {hole} hole{note}), area {}",
+            loops.len(),
+            loops_area_text(loops)
+        )
+    };
+    let _ = writeln!(s, "  below L-     : {}", limit(&ls.below));
+    let _ = write!(s, "  above L+     : {}", limit(&ls.above));
     s
 }
 
@@ -162,6 +164,8 @@ mod tests {
                 orientation: Sign::Positive,
                 role: Role::Outer,
                 parent: None,
+                collapsed: false,
+                crossings: vec![],
             }]),
             regions: vec![],
             ridges: vec![],

@@ -48,6 +48,7 @@ mod facts;
 mod geometry;
 pub mod json;
 mod level;
+mod limits;
 pub mod report;
 
 pub use doc::FormatError;
