@@ -13,6 +13,7 @@ pub mod level;
 pub mod point;
 pub mod predicates;
 pub mod rational;
+pub mod scale;
 pub mod volume;
 
 pub use level::Level;
