@@ -153,8 +153,7 @@ impl Window {
     fn holds(self, xs: &[f64]) -> bool {
         let lo = pow2(self.low + 52);
         let hi = pow2(self.high);
-        xs.iter()
-            .all(|&x| x == 0.0 || (lo..hi).contains(&x.abs()))
+        xs.iter().all(|&x| x == 0.0 || (lo..hi).contains(&x.abs()))
     }
 
     /// The coordinates as `robust` may take them: as they are when the
@@ -334,8 +333,7 @@ mod tests {
         let [a, b, c, d] = [a, b, c, d].map(rat3);
         let diff = |p: &[Rat; 3]| [0, 1, 2].map(|i| &p[i] - &a[i]);
         let (u, v, w) = (diff(&b), diff(&c), diff(&d));
-        let det = &u[0] * (&v[1] * &w[2] - &v[2] * &w[1])
-            - &u[1] * (&v[0] * &w[2] - &v[2] * &w[0])
+        let det = &u[0] * (&v[1] * &w[2] - &v[2] * &w[1]) - &u[1] * (&v[0] * &w[2] - &v[2] * &w[0])
             + &u[2] * (&v[0] * &w[1] - &v[1] * &w[0]);
         Sign::of_rat(&det)
     }
@@ -366,7 +364,10 @@ mod tests {
         assert_eq!(orient3d(o, x, y, [0.0, 0.0, 1.0]), Sign::Positive);
         assert_eq!(orient3d(o, x, y, [0.0, 0.0, -1.0]), Sign::Negative);
         assert_eq!(orient3d(o, x, y, [5.0, 7.0, 0.0]), Sign::Zero);
-        assert_eq!(orient3d_integers([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]), Sign::Positive);
+        assert_eq!(
+            orient3d_integers([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]),
+            Sign::Positive
+        );
     }
 
     #[test]
@@ -412,10 +413,27 @@ mod tests {
         }
         // The largest double and the smallest subnormal in one call.
         let (big, tiny) = (f64::MAX, f64::from_bits(1));
-        assert_eq!(orient2d_xy([0.0; 3], [big, big, 0.0], [tiny, tiny, 0.0]), Sign::Zero);
-        assert_eq!(orient2d_xy([0.0; 3], [big, big, 0.0], [tiny, 2.0 * tiny, 0.0]), Sign::Positive);
-        assert_eq!(orient3d([0.0; 3], [big, 0.0, 0.0], [0.0, tiny, 0.0], [0.0, 0.0, big]), Sign::Positive);
-        assert_eq!(orient3d([0.0; 3], [big, 0.0, 0.0], [0.0, tiny, 0.0], [big, -tiny, 0.0]), Sign::Zero);
+        assert_eq!(
+            orient2d_xy([0.0; 3], [big, big, 0.0], [tiny, tiny, 0.0]),
+            Sign::Zero
+        );
+        assert_eq!(
+            orient2d_xy([0.0; 3], [big, big, 0.0], [tiny, 2.0 * tiny, 0.0]),
+            Sign::Positive
+        );
+        assert_eq!(
+            orient3d([0.0; 3], [big, 0.0, 0.0], [0.0, tiny, 0.0], [0.0, 0.0, big]),
+            Sign::Positive
+        );
+        assert_eq!(
+            orient3d(
+                [0.0; 3],
+                [big, 0.0, 0.0],
+                [0.0, tiny, 0.0],
+                [big, -tiny, 0.0]
+            ),
+            Sign::Zero
+        );
     }
 
     proptest! {

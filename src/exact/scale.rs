@@ -64,7 +64,10 @@ mod tests {
         for x in [tiny, 3.0 * tiny, 1.5, f64::MAX, -0.1, f64::MIN_POSITIVE] {
             let (l, h) = spread(&[x]).unwrap();
             // Every s whose result is a double.
-            for s in [-1074 - l, 1023 - h, 0, 17, -17].into_iter().filter(|s| (-1074 - l..=1023 - h).contains(s)) {
+            for s in [-1074 - l, 1023 - h, 0, 17, -17]
+                .into_iter()
+                .filter(|s| (-1074 - l..=1023 - h).contains(s))
+            {
                 let y = times_pow2(x, s);
                 let two = Rat::from_integer(2.into());
                 assert_eq!(rat_from_f64(y), rat_from_f64(x) * two.pow(s), "{x} 2^{s}");

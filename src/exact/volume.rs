@@ -129,14 +129,15 @@ pub fn volume_sign_filter(mesh: &Mesh) -> Option<Sign> {
         return None;
     }
     // The largest and the smallest non-zero magnitude.
-    let (max_abs, min_abs) = mesh.positions.iter().flatten().try_fold(
-        (0.0f64, f64::INFINITY),
-        |(hi, lo), &x| {
-            let a = x.abs();
-            x.is_finite()
-                .then(|| (hi.max(a), if a == 0.0 { lo } else { lo.min(a) }))
-        },
-    )?;
+    let (max_abs, min_abs) =
+        mesh.positions
+            .iter()
+            .flatten()
+            .try_fold((0.0f64, f64::INFINITY), |(hi, lo), &x| {
+                let a = x.abs();
+                x.is_finite()
+                    .then(|| (hi.max(a), if a == 0.0 { lo } else { lo.min(a) }))
+            })?;
     let s = filter_scale(max_abs, min_abs);
     let max_abs = times_pow2(max_abs, s);
     // Per face: its determinant, the determinant's magnitude, and its
@@ -144,7 +145,11 @@ pub fn volume_sign_filter(mesh: &Mesh) -> Option<Sign> {
     let face = |tri: &[crate::ids::VertexId; 3]| -> Option<[f64; 3]> {
         let p = |k: usize| {
             let v = mesh.positions.get(tri[k].idx()).copied()?;
-            Some(if s == 0 { v } else { v.map(|x| times_pow2(x, s)) })
+            Some(if s == 0 {
+                v
+            } else {
+                v.map(|x| times_pow2(x, s))
+            })
         };
         let (a, b, c) = (p(0)?, p(1)?, p(2)?);
         let products = [
@@ -340,7 +345,12 @@ mod tests {
                 let mut m = d.build();
                 let s = crate::exact::scale::times_pow2(1.0, e);
                 m.positions.iter_mut().flatten().for_each(|x| *x *= s);
-                assert_eq!(volume_sign_filter(&m), Some(Sign::Positive), "{} 2^{e}", d.name);
+                assert_eq!(
+                    volume_sign_filter(&m),
+                    Some(Sign::Positive),
+                    "{} 2^{e}",
+                    d.name
+                );
             }
         }
         // The largest magnitude beside the smallest: no scale brings both
