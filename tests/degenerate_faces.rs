@@ -316,3 +316,128 @@ fn a_sliver_on_an_open_edge_is_refused_by_name() {
         .iter()
         .any(|d| matches!(d, Defect::OpenEdge { .. })));
 }
+
+/// The unit box with its top at the `f32` `0.6` and a vertex meant to lie
+/// on the diagonal `0-5` of the side face `(0, 1, 5)` (at a tenth of it),
+/// written as `f32` decimals, as a CAD export has it: as read the vertex is
+/// a hair off the diagonal; snapped to 1/1000 it is exactly on it, and the
+/// sliver is flipped away.
+fn cad_box_with_sliver() -> (Mesh, Mesh) {
+    let (p, f) = common::unit_box(f64::from(0.6f32));
+    let mesh = Mesh::from_raw(p, f);
+    assert_eq!(mesh.faces[4], [VertexId(0), VertexId(1), VertexId(5)]);
+    let mut got = with_sliver_fan(&mesh, 4, 2, 1);
+    got.positions[8] = [f64::from(0.1f32), 0.0, f64::from(0.06f32)];
+    (got, mesh)
+}
+
+#[test]
+fn a_cad_sliver_made_exact_by_snapping_is_flipped_sliced_and_verified() {
+    let (got, mesh) = cad_box_with_sliver();
+    let degenerate = |m: &Mesh| {
+        validate(m)
+            .defects
+            .iter()
+            .filter(|d| matches!(d, Defect::DegenerateFace { .. }))
+            .count()
+    };
+    assert_eq!(
+        degenerate(&got),
+        0,
+        "as read, the vertex is off the diagonal"
+    );
+    let q = Rat::new(1.into(), 1000.into());
+    let snapped = wmslice::mesh::snap::snap(&got, &q).unwrap();
+    let plain = wmslice::mesh::snap::snap(&mesh, &q).unwrap();
+    assert_eq!(degenerate(&snapped.mesh), 1);
+    // Levels in grid units: the bottom, the sliver's height, the top, and
+    // between.
+    let levels: Vec<Rat> = [0, 30, 60, 300, 600]
+        .iter()
+        .map(|&z| Rat::from_integer(z.into()))
+        .collect();
+    same_levels("snapped CAD box", &snapped.mesh, &plain.mesh, &levels, 1);
+
+    // The command line: the flip is noted, the result verifies.
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("cad.off");
+    let mut text = format!("OFF\n{} {} 0\n", got.num_vertices(), got.num_faces());
+    for p in &got.positions {
+        let f = p.map(|x| x as f32);
+        text += &format!("{} {} {}\n", f[0], f[1], f[2]);
+    }
+    for t in &got.faces {
+        text += &format!("3 {} {} {}\n", t[0].0, t[1].0, t[2].0);
+    }
+    std::fs::write(&file, text).unwrap();
+    let out = dir.path().join("out.json");
+    let s = |p: &std::path::Path| p.to_str().unwrap().to_owned();
+    let (code, _, err) = common::wmslice(&[
+        "slice",
+        &s(&file),
+        "--snap",
+        "0.001",
+        "--at",
+        "0.06",
+        "--at",
+        "0.6",
+        "--at",
+        "0",
+        "--format",
+        "json",
+        "--exact",
+        "-o",
+        &s(&out),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("flipped 1 degenerate faces"), "{err}");
+    let (code, said, err) = common::wmslice(&["verify", &s(&file), &s(&out)]);
+    assert_eq!(code, 0, "{said}{err}");
+    // The header's hash is that of the mesh as sliced (repaired).
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let repaired = repair_degenerate(&snapped.mesh).mesh.into_owned();
+    assert_eq!(
+        doc["mesh"]["sha256"].as_str().unwrap(),
+        wmslice::output::json::mesh_sha256(&repaired)
+    );
+}
+
+#[test]
+fn an_unrepairable_mesh_exits_3_naming_the_face_and_writes_nothing() {
+    let (mut got, _) = cad_box_with_sliver();
+    got.positions[8] = got.positions[0];
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("bad.off");
+    let mut text = format!("OFF\n{} {} 0\n", got.num_vertices(), got.num_faces());
+    for p in &got.positions {
+        text += &format!("{:?} {:?} {:?}\n", p[0], p[1], p[2]);
+    }
+    for t in &got.faces {
+        text += &format!("3 {} {} {}\n", t[0].0, t[1].0, t[2].0);
+    }
+    std::fs::write(&file, text).unwrap();
+    let out = dir.path().join("out.json");
+    let s = |p: &std::path::Path| p.to_str().unwrap().to_owned();
+    let (code, _, err) = common::wmslice(&[
+        "slice",
+        &s(&file),
+        "--at",
+        "0.3",
+        "--format",
+        "json",
+        "-o",
+        &s(&out),
+    ]);
+    assert_eq!(code, 3, "{err}");
+    assert!(
+        err.contains(
+            "is degenerate (its vertices are collinear): vertices v0 and v8 are at one position"
+        ),
+        "{err}"
+    );
+    assert!(!out.exists());
+    let (code, said, _) = common::wmslice(&["check", &s(&file)]);
+    assert_eq!(code, 3);
+    assert!(said.contains("error: face f13 is degenerate"), "{said}");
+}
