@@ -298,3 +298,44 @@ fn every_dataset_scaled_by_extreme_powers_of_two_gives_the_scaled_answers() {
         fails.join("\n")
     );
 }
+
+/// Defects are found at every scale too: the flattened tetrahedron's
+/// folds (which `robust` alone missed below about `2^-537`, taking every
+/// face for degenerate and skipping it) and a sliver's degenerate face
+/// (which it saw everywhere there), with the same element ids as at
+/// scale 1; and the sliver is flipped the same way.
+#[test]
+fn defects_and_flips_are_the_same_at_every_scale() {
+    use wmslice::mesh::flip::repair_degenerate;
+    let tetra = Mesh::from_raw(
+        vec![[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0.25, 0.25, 0.0]],
+        vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
+    );
+    let sliver = Mesh::from_raw(
+        vec![
+            [0., 0., 0.],
+            [1., 0., 0.],
+            [0., 1., 0.],
+            [0., 0., 1.],
+            [0.5, 0., 0.],
+        ],
+        vec![
+            [0, 2, 1],
+            [0, 1, 4],
+            [0, 4, 3],
+            [4, 1, 3],
+            [0, 3, 2],
+            [1, 2, 3],
+        ],
+    );
+    let (folds, slivers) = (validate(&tetra).defects, validate(&sliver).defects);
+    assert!(!folds.is_empty() && !slivers.is_empty());
+    let flips = repair_degenerate(&sliver).flips;
+    assert_eq!(flips.len(), 1);
+    for k in [-1074 + 2, -1000, -540, -300, 300, 500, 1000, 1022] {
+        assert_eq!(validate(&scaled_mesh(&tetra, k)).defects, folds, "2^{k}");
+        let big = scaled_mesh(&sliver, k);
+        assert_eq!(validate(&big).defects, slivers, "2^{k}");
+        assert_eq!(repair_degenerate(&big).flips, flips, "2^{k}");
+    }
+}
