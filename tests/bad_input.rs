@@ -127,6 +127,10 @@ fn rows() -> Vec<Row> {
         [0, 3, 2],
         [1, 2, 3],
     ];
+    // Vertex 4 at vertex 0's position: faces 1 and 2 are degenerate and no
+    // flip removes them.
+    let mut coincident_pos = zero_pos.clone();
+    coincident_pos[4] = coincident_pos[0];
     let good_stl = binary_stl(4, &tetra_corners());
     let mut nan_stl = tetra_corners();
     nan_stl[5][2] = f32::NAN;
@@ -195,20 +199,28 @@ fn rows() -> Vec<Row> {
             "face f4 duplicates face f2",
         ),
         row(
-            "zero-area face (accepted, reported by check)",
+            "degenerate face (flipped away, noted by check)",
             "zero_area.off",
             off(&zero_pos, &zero_faces),
             Run::Check,
             0,
-            "face f1 has zero area",
+            "flipped 1 degenerate faces",
         ),
         row(
-            "zero-area face in the plane (accepted, sliced, verified)",
+            "degenerate face in the plane (flipped away, sliced, verified)",
             "zero_area_sliced.off",
             off(&zero_pos, &zero_faces),
             Run::Slice("0"),
             0,
             "",
+        ),
+        row(
+            "degenerate face with coincident vertices (refused)",
+            "coincident.off",
+            off(&coincident_pos, &zero_faces),
+            s,
+            3,
+            "face f1 is degenerate (its vertices are collinear): vertices",
         ),
         row(
             "OBJ index out of range",

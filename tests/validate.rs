@@ -193,10 +193,28 @@ fn with_sliver(apex: [f64; 3]) -> Mesh {
 }
 
 #[test]
-fn zero_area_faces_are_reported_but_accepted() {
-    let r = validate(&with_sliver(TETRA_POS[3]));
-    assert!(r.is_accepted(), "{r}");
-    assert_eq!(r.defects, vec![Defect::ZeroAreaFace { face: f(1) }]);
+fn an_unrepaired_degenerate_face_is_refused_and_named_flippable() {
+    let m = with_sliver(TETRA_POS[3]);
+    let r = validate(&m);
+    assert!(!r.is_accepted(), "{r}");
+    assert_eq!(
+        r.defects,
+        vec![Defect::DegenerateFace {
+            face: f(1),
+            why: wmslice::mesh::flip::Unflippable::Flippable {
+                apex: v(4),
+                edge: [v(0), v(1)],
+                beyond: f(0)
+            }
+        }]
+    );
+    // Flipping edge 0-1 of faces 1 and 0 leaves an accepted mesh.
+    let repaired = wmslice::mesh::flip::repair_degenerate(&m);
+    assert_eq!(repaired.flips.len(), 1);
+    assert_eq!(repaired.mesh.faces[1], [v(0), v(2), v(4)]);
+    assert_eq!(repaired.mesh.faces[0], [v(2), v(1), v(4)]);
+    let r = validate(&repaired.mesh);
+    assert!(r.defects.is_empty(), "{r}");
 }
 
 #[test]
@@ -314,7 +332,10 @@ fn validation_reports_the_same_on_one_and_on_several_threads() {
             face: f(0),
             first: f(0),
         },
-        Defect::ZeroAreaFace { face: f(0) },
+        Defect::DegenerateFace {
+            face: f(0),
+            why: wmslice::mesh::flip::Unflippable::CoincidentVertices { a: v(0), b: v(0) },
+        },
         Defect::Fold {
             a: v(0),
             b: v(0),
@@ -382,5 +403,6 @@ fn accepting_for_slicing_agrees_with_validation() {
             }
         }
     }
-    assert_eq!(rejected, 4);
+    // The sliver is not repaired here (`accept` takes the mesh as given).
+    assert_eq!(rejected, 5);
 }

@@ -79,6 +79,8 @@ struct Numeric {
     largest_move: Option<String>,
     moved_vertices: Option<usize>,
     merged_vertices: Option<usize>,
+    /// Degenerate faces removed by edge flips (SPEC 1) before slicing.
+    flipped_faces: usize,
 }
 
 #[derive(Serialize)]
@@ -182,6 +184,7 @@ fn numeric(a: &SliceArgs, input: &Input) -> Result<Numeric, Failure> {
             largest_move: None,
             moved_vertices: None,
             merged_vertices: None,
+            flipped_faces: input.flips.len(),
         });
     };
     let s = snap(&original_mesh(a, input)?, q).tag(ExitCode::InvalidMesh)?;
@@ -191,6 +194,7 @@ fn numeric(a: &SliceArgs, input: &Input) -> Result<Numeric, Failure> {
         largest_move: Some(rat_to_string(&s.max_move)),
         moved_vertices: Some(s.moved),
         merged_vertices: Some(s.merged),
+        flipped_faces: input.flips.len(),
     })
 }
 

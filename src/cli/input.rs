@@ -1,5 +1,10 @@
 //! Input: a mesh argument (a file or a built-in dataset name) and an
 //! optional snap grid. Output: the mesh to slice, with notes for the user.
+//!
+//! Every command that loads a mesh (check, slice, verify) takes it through
+//! the same steps: read, snap when asked, then remove degenerate faces by
+//! edge flips (SPEC 1; `wmslice::mesh::flip`), so that the mesh hash in a
+//! result and the one `verify` computes are those of the mesh as sliced.
 
 use super::{ExitCode, Failure, Tag};
 use anyhow::anyhow;
@@ -7,6 +12,7 @@ use std::path::Path;
 use wmslice::datasets;
 use wmslice::exact::parse_rational;
 use wmslice::exact::rational::{rat_to_f64, rat_to_string, Rat};
+use wmslice::mesh::flip::{repair_degenerate, Flip};
 use wmslice::mesh::io::{load_bytes, MeshFormat};
 use wmslice::mesh::snap::snap;
 use wmslice::Mesh;
@@ -21,9 +27,45 @@ pub struct Input {
     pub notes: Vec<String>,
     /// The bytes of the input file (empty for a built-in dataset).
     pub file_bytes: Vec<u8>,
+    /// The edge flips that removed degenerate faces, in the order made.
+    pub flips: Vec<Flip>,
+}
+
+/// At most this many flips are listed in the note; the rest are counted.
+const LISTED_FLIPS: usize = 10;
+
+/// Removes the degenerate faces edge flips can remove, with a note.
+fn repaired(mut input: Input) -> Input {
+    let (mesh, flips) = {
+        let r = repair_degenerate(&input.mesh);
+        if r.flips.is_empty() {
+            return input;
+        }
+        (r.mesh.into_owned(), r.flips)
+    };
+    let mut listed: Vec<String> = flips
+        .iter()
+        .take(LISTED_FLIPS)
+        .map(|f| f.to_string())
+        .collect();
+    if flips.len() > LISTED_FLIPS {
+        listed.push(format!("and {} more", flips.len() - LISTED_FLIPS));
+    }
+    input.notes.push(format!(
+        "flipped {} degenerate faces (a vertex inside the opposite edge; the surface does not move): {}",
+        flips.len(),
+        listed.join(", ")
+    ));
+    input.mesh = mesh;
+    input.flips = flips;
+    input
 }
 
 pub fn load_input(spec: &str, snap_arg: Option<&str>) -> Result<Input, Failure> {
+    load_unrepaired(spec, snap_arg).map(repaired)
+}
+
+fn load_unrepaired(spec: &str, snap_arg: Option<&str>) -> Result<Input, Failure> {
     let path = Path::new(spec);
     let mut notes = Vec::new();
     let mut file_bytes = Vec::new();
@@ -54,6 +96,7 @@ pub fn load_input(spec: &str, snap_arg: Option<&str>) -> Result<Input, Failure> 
             unit: None,
             notes,
             file_bytes,
+            flips: Vec::new(),
         }),
         Some(q) => {
             let q = parse_rational(q).tag(ExitCode::Usage)?;
@@ -71,6 +114,7 @@ pub fn load_input(spec: &str, snap_arg: Option<&str>) -> Result<Input, Failure> 
                 unit: Some(s.unit),
                 notes,
                 file_bytes,
+                flips: Vec::new(),
             })
         }
     }

@@ -15,6 +15,7 @@ pub mod planar;
 pub mod point;
 pub mod predicates;
 pub mod rational;
+pub mod scale;
 pub mod volume;
 
 pub use level::Level;

@@ -132,6 +132,16 @@ fn number(out: &mut Vec<u8>, v: f64) {
     }
 }
 
+/// The nearest finite double of a rational whose nearest double
+/// overflows (a loop's area on a mesh near `2^1000`): `f64::MAX` of its
+/// sign. JSON has no infinity (`number` would write `null`, losing the
+/// sign, and many readers refuse a decimal beyond `f64::MAX`); the exact
+/// value is `area_exact`. The verifier expects the same saturation.
+fn overflowed(out: &mut Vec<u8>, r: &Rat) {
+    use num_traits::Signed;
+    number(out, if r.is_negative() { f64::MIN } else { f64::MAX });
+}
+
 /// Writes an unsigned integer.
 fn integer(out: &mut Vec<u8>, v: u64) {
     let _ = CompactFormatter.write_u64(out, v);
@@ -213,7 +223,15 @@ fn json_loop(out: &mut Vec<u8>, l: &Loop, ex: Exactness) {
         });
     }
     key(out, "area", false);
-    number(out, exact_area.as_ref().map_or(l.area_approx, rat_to_f64));
+    let rounded = exact_area.as_ref().map_or(l.area_approx, rat_to_f64);
+    if rounded.is_finite() {
+        number(out, rounded);
+    } else {
+        match &exact_area {
+            Some(a) => overflowed(out, a),
+            None => overflowed(out, &l.area()),
+        }
+    }
     if let Some(a) = &exact_area {
         key(out, "area_exact", false);
         plain_string(out, &rat_to_string(a));
@@ -370,6 +388,19 @@ pub fn to_json(header: &MeshHeader, levels: &[LevelSet], ex: Exactness) -> Strin
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn overflowed_areas_saturate_to_the_largest_double_of_their_sign() {
+        let big = Rat::from_integer(2.into()).pow(2000);
+        for (r, text) in [
+            (big.clone(), "1.7976931348623157e+308"),
+            (-big, "-1.7976931348623157e+308"),
+        ] {
+            let mut out = Vec::new();
+            super::overflowed(&mut out, &r);
+            assert_eq!(String::from_utf8(out).unwrap(), text);
+        }
+    }
+
     use super::*;
     use crate::classify::{ExtremumKind, Facing, RidgeKind};
     use crate::exact::Point2;

@@ -225,10 +225,12 @@ impl LevelCheck<'_, '_> {
     }
 
     /// A rounded field: the decimal written must round to the double
-    /// nearest to `exact`. The text is read by Rust's float parser, which
-    /// rounds correctly (unlike a best-effort JSON number parser).
+    /// nearest to `exact` (the finite one: `f64::MAX` of its sign when the
+    /// value is beyond it, as JSON has no infinity). The text is read by
+    /// Rust's float parser, which rounds correctly (unlike a best-effort
+    /// JSON number parser).
     fn nearest(&mut self, place: Place, what: &'static str, text: &str, exact: &Rat) {
-        let want = rat_to_f64(exact);
+        let want = rat_to_f64(exact).clamp(f64::MIN, f64::MAX);
         let ok = text.parse::<f64>().is_ok_and(|r| r == want);
         if !ok {
             self.push(
