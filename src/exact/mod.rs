@@ -9,6 +9,7 @@ pub mod area;
 pub mod dyadic;
 pub mod filter;
 pub mod grid;
+pub mod homogeneous;
 pub mod level;
 pub mod perturbed;
 pub mod planar;

@@ -156,6 +156,13 @@ fn candidates<P: Planar, L: AsRef<[P]>>(family: &Family<'_, L>) -> Option<Vec<Ve
         }
         (((x - lo[k]) / span * cells as f64) as usize).min(cells - 1)
     };
+    // Boxes spanning many cells (loops around many others) make the grid
+    // itself quadratic: count its entries first.
+    let span = |b: &Bbox, k: usize| cell_of(b.hi[k], k) - cell_of(b.lo[k], k) + 1;
+    let entries: usize = boxes.iter().map(|b| span(b, 0) * span(b, 1)).sum();
+    if entries > budget {
+        return None;
+    }
     let mut grid: Vec<Vec<u32>> = vec![Vec::new(); cells * cells];
     for (i, b) in boxes.iter().enumerate() {
         for cx in cell_of(b.lo[0], 0)..=cell_of(b.hi[0], 0) {
@@ -352,5 +359,99 @@ mod tests {
         assert_eq!(n[0].parent, Some(2));
         assert_eq!(n[1].parent, Some(2));
         assert_eq!(n[0].role, Role::Hole);
+    }
+
+    /// Both methods on the contours of random closed meshes at every
+    /// vertex height and between (loops touching at saddles, holes in
+    /// holes): the sweep's parents equal crossing parity's, which equal
+    /// the slicer's.
+    #[test]
+    fn sweep_equals_ray_casting_on_random_contours() {
+        use crate::datasets::slab::{heights_and_midpoints, Slab};
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut tried = 0;
+        for _ in 0..60 {
+            let bytes: Vec<u8> = (0..48)
+                .map(|_| {
+                    seed ^= seed << 13;
+                    seed ^= seed >> 7;
+                    seed ^= seed << 17;
+                    seed as u8
+                })
+                .collect();
+            let mesh = Slab::from_bytes(&bytes).mesh();
+            let slicer = crate::Slicer::new(&mesh).unwrap();
+            for c in heights_and_midpoints(&mesh) {
+                let ls = slicer.slice_at(&c).unwrap();
+                let loops: Vec<Vec<FilteredPoint<'_>>> = ls
+                    .contours
+                    .iter()
+                    .map(|l| l.points.iter().map(FilteredPoint::new).collect())
+                    .collect();
+                let orientation: Vec<Sign> = ls.contours.iter().map(|l| l.orientation).collect();
+                let reps: Vec<Option<usize>> = ls
+                    .contours
+                    .iter()
+                    .map(|l| {
+                        l.cuts
+                            .iter()
+                            .position(|c| matches!(c, crate::segment::CutPoint::OnEdge(_)))
+                    })
+                    .collect();
+                let family = Family {
+                    loops: &loops,
+                    orientation: &orientation,
+                    representative: &reps,
+                };
+                let swept = sweep::parents(&loops, &orientation);
+                let stored: Vec<Option<usize>> = ls.contours.iter().map(|l| l.parent).collect();
+                assert_eq!(swept, stored, "sweep at {c}");
+                if reps.iter().all(Option::is_some) {
+                    let all: Vec<Vec<u32>> = (0..loops.len())
+                        .map(|i| {
+                            (0..loops.len() as u32)
+                                .filter(|&j| j as usize != i)
+                                .collect()
+                        })
+                        .collect();
+                    assert_eq!(ray_cast_parents(&family, &all), stored, "rays at {c}");
+                }
+                tried += usize::from(loops.len() > 1);
+            }
+        }
+        assert!(tried > 50, "{tried} levels with several loops");
+    }
+
+    #[test]
+    fn deep_nesting_goes_to_the_sweep() {
+        // 200 nested squares: ray casting would test 200 * 199 / 2 pairs.
+        let loops: Vec<Vec<LoopPoint>> = (0..200)
+            .map(|i| square(-i, -i, 2 * i + 1, i % 2 == 0))
+            .collect();
+        let filtered: Vec<Vec<FilteredPoint<'_>>> = loops
+            .iter()
+            .map(|l| l.iter().map(FilteredPoint::new).collect())
+            .collect();
+        let orientation: Vec<Sign> = (0..200)
+            .map(|i| {
+                if i % 2 == 0 {
+                    Sign::Positive
+                } else {
+                    Sign::Negative
+                }
+            })
+            .collect();
+        let reps = vec![Some(0); 200];
+        let family = Family {
+            loops: &filtered,
+            orientation: &orientation,
+            representative: &reps,
+        };
+        assert!(candidates(&family).is_none(), "over the ray budget");
+        let n = nest(&family);
+        for (i, x) in n.iter().enumerate() {
+            assert_eq!(x.parent, i.checked_add(1).filter(|&p| p < 200));
+            assert_eq!(x.depth, 199 - i);
+        }
     }
 }

@@ -23,11 +23,15 @@ use crate::exact::planar::Planar;
 use crate::exact::Sign;
 use std::cmp::Ordering;
 
-/// A segment of loop `l` from its point `k` to point `k + 1`.
+/// A segment of loop `l`: from its lower end (in sweep order) to its
+/// upper end, global point indices; `down` when the loop runs from upper
+/// to lower.
 #[derive(Clone, Copy, Debug)]
 struct Seg {
     l: u32,
-    k: u32,
+    lower: u32,
+    upper: u32,
+    down: bool,
 }
 
 /// What the segment just left of a loop's lowest point says.
@@ -41,73 +45,97 @@ enum Left {
     Beside(usize),
 }
 
+/// Groups `items` by a key below `n` (counting sort): the items of key
+/// `k` are `out[start[k]..start[k + 1]]`, in input order.
+fn bucket<T: Copy>(n: usize, items: &[T], key: impl Fn(&T) -> usize) -> (Vec<usize>, Vec<T>) {
+    let mut start = vec![0usize; n + 1];
+    for it in items {
+        start[key(it) + 1] += 1;
+    }
+    for k in 0..n {
+        start[k + 1] += start[k];
+    }
+    let mut next = start.clone();
+    let mut out: Vec<T> = Vec::with_capacity(items.len());
+    // Every slot is written once below.
+    out.extend(items.iter().copied());
+    for it in items {
+        let k = key(it);
+        out[next[k]] = *it;
+        next[k] += 1;
+    }
+    (start, out)
+}
+
 /// The parent of every loop. `orientation[i]` is the exact sign of loop
 /// `i`'s area (a loop of zero area encloses nothing).
 pub fn parents<P: Planar, L: AsRef<[P]>>(loops: &[L], orientation: &[Sign]) -> Vec<Option<usize>> {
-    let pts = |s: Seg| -> (&P, &P) {
-        let poly = loops[s.l as usize].as_ref();
-        let k = s.k as usize;
-        (&poly[k], &poly[(k + 1) % poly.len()])
-    };
+    // Points by global index: loop `l`'s point `k` is `first[l] + k`.
+    let mut first = Vec::with_capacity(loops.len() + 1);
+    let mut owner: Vec<u32> = Vec::new();
+    let mut points: Vec<&P> = Vec::new();
+    for (l, poly) in loops.iter().enumerate() {
+        first.push(points.len());
+        for p in poly.as_ref() {
+            points.push(p);
+            owner.push(l as u32);
+        }
+    }
+    first.push(points.len());
     // Every point, in sweep order; equal points (loops touching) form one
     // event.
-    let mut order: Vec<(u32, u32)> = loops
-        .iter()
-        .enumerate()
-        .flat_map(|(l, p)| (0..p.as_ref().len() as u32).map(move |k| (l as u32, k)))
-        .collect();
-    let point = |(l, k): (u32, u32)| &loops[l as usize].as_ref()[k as usize];
-    order.sort_by(|&a, &b| point(a).cmp_yx(point(b)));
-    let mut event_of: Vec<Vec<u32>> = loops.iter().map(|p| vec![0; p.as_ref().len()]).collect();
+    let mut order: Vec<u32> = (0..points.len() as u32).collect();
+    order.sort_by(|&a, &b| points[a as usize].cmp_yx(points[b as usize]));
+    let mut event = vec![0u32; points.len()];
     let mut events = 0u32;
-    for (i, &pk) in order.iter().enumerate() {
-        if i > 0 && point(order[i - 1]).cmp_yx(point(pk)) != Ordering::Equal {
+    for (i, &g) in order.iter().enumerate() {
+        if i > 0 && points[order[i - 1] as usize].cmp_yx(points[g as usize]) != Ordering::Equal {
             events += 1;
         }
-        event_of[pk.0 as usize][pk.1 as usize] = events;
+        event[g as usize] = events;
     }
     let events = events as usize + 1;
 
-    // Segments by the event of their lower and upper ends (counting sort).
-    let mut starts: Vec<Vec<Seg>> = vec![Vec::new(); events];
-    let mut ends: Vec<Vec<Seg>> = vec![Vec::new(); events];
-    let mut lowest: Vec<Vec<u32>> = vec![Vec::new(); events];
-    for (l, ev) in event_of.iter().enumerate() {
-        let n = ev.len();
-        if let Some(&low) = ev.iter().min() {
-            lowest[low as usize].push(l as u32);
+    // Segments (zero-length ones left out), and each loop's lowest event.
+    let mut segs: Vec<Seg> = Vec::with_capacity(points.len());
+    let mut lowest: Vec<(u32, u32)> = Vec::with_capacity(loops.len());
+    for l in 0..loops.len() {
+        let (a, n) = (first[l], first[l + 1] - first[l]);
+        if n == 0 {
+            continue;
         }
+        let low = (a..a + n).map(|g| event[g]).min().unwrap_or(0);
+        lowest.push((low, l as u32));
         for k in 0..n {
-            let (a, b) = (ev[k], ev[(k + 1) % n]);
-            if a == b {
-                continue; // zero length
+            let (p, q) = ((a + k) as u32, (a + (k + 1) % n) as u32);
+            let (ep, eq) = (event[p as usize], event[q as usize]);
+            if ep == eq {
+                continue;
             }
-            let s = Seg {
+            let down = ep > eq;
+            let (lower, upper) = if down { (q, p) } else { (p, q) };
+            segs.push(Seg {
                 l: l as u32,
-                k: k as u32,
-            };
-            starts[a.min(b) as usize].push(s);
-            ends[a.max(b) as usize].push(s);
+                lower,
+                upper,
+                down,
+            });
         }
     }
+    let ev = |g: u32| event[g as usize] as usize;
+    let ids: Vec<u32> = (0..segs.len() as u32).collect();
+    let (start_at, starts) = bucket(events, &ids, |&i| ev(segs[i as usize].lower));
+    let (end_at, ends) = bucket(events, &ids, |&i| ev(segs[i as usize].upper));
+    let (low_at, lows) = bucket(events, &lowest, |&(e, _)| e as usize);
 
-    let lower = |s: Seg| {
-        let (a, b) = pts(s);
-        if a.cmp_yx(b) == Ordering::Less {
-            (a, b)
-        } else {
-            (b, a)
-        }
-    };
     // Where segment `s`, starting at the current event point, goes
     // relative to segment `t` already crossing the line.
-    let cmp = |s: Seg, t: Seg| -> Ordering {
-        let (p, q) = lower(s);
-        let (c, d) = lower(t);
-        let side = if c.cmp_yx(p) == Ordering::Equal {
-            P::orient(c, d, q)
+    let cmp = |s: &Seg, t: &Seg| -> Ordering {
+        let (c, d) = (points[t.lower as usize], points[t.upper as usize]);
+        let side = if event[t.lower as usize] == event[s.lower as usize] {
+            P::orient(c, d, points[s.upper as usize])
         } else {
-            P::orient(c, d, p)
+            P::orient(c, d, points[s.lower as usize])
         };
         match side {
             Sign::Positive => Ordering::Less,
@@ -117,37 +145,40 @@ pub fn parents<P: Planar, L: AsRef<[P]>>(loops: &[L], orientation: &[Sign]) -> V
         }
     };
 
-    let mut line: Order<Seg> = Order::new();
-    let mut handle: Vec<Vec<Handle>> = loops
-        .iter()
-        .map(|p| vec![Handle::MAX; p.as_ref().len()])
-        .collect();
+    let mut line: Order<u32> = Order::new();
+    let mut handle: Vec<Handle> = vec![Handle::MAX; segs.len()];
     let mut left = vec![Left::Nothing; loops.len()];
     for e in 0..events {
-        for &s in &ends[e] {
-            line.remove(handle[s.l as usize][s.k as usize]);
+        for &i in &ends[end_at[e]..end_at[e + 1]] {
+            line.remove(handle[i as usize]);
         }
-        for &s in &starts[e] {
-            handle[s.l as usize][s.k as usize] = line.insert(s, |t| cmp(s, t));
+        let starting = &starts[start_at[e]..start_at[e + 1]];
+        for &i in starting {
+            let s = &segs[i as usize];
+            handle[i as usize] = line.insert(i, |t| cmp(s, &segs[t as usize]));
         }
-        for &l in &lowest[e] {
-            let leftmost = starts[e]
+        for &(_, l) in &lows[low_at[e]..low_at[e + 1]] {
+            let mine = starting
                 .iter()
-                .filter(|s| s.l == l)
                 .copied()
-                .reduce(|a, b| if cmp(b, a) == Ordering::Less { b } else { a });
-            let Some(s) = leftmost else { continue };
+                .filter(|&i| segs[i as usize].l == l);
+            let leftmost = mine.reduce(|a, b| {
+                if cmp(&segs[b as usize], &segs[a as usize]) == Ordering::Less {
+                    b
+                } else {
+                    a
+                }
+            });
+            let Some(i) = leftmost else { continue };
             let Some(t) = line
-                .prev(handle[l as usize][s.k as usize])
-                .map(|h| line.get(h))
+                .prev(handle[i as usize])
+                .map(|h| segs[line.get(h) as usize])
             else {
                 continue;
             };
-            let (a, b) = pts(t);
-            let downwards = a.cmp_yx(b) == Ordering::Greater;
             let inside = match orientation[t.l as usize] {
-                Sign::Positive => downwards,
-                Sign::Negative => !downwards,
+                Sign::Positive => t.down,
+                Sign::Negative => !t.down,
                 Sign::Zero => false,
             };
             left[l as usize] = if inside {
