@@ -3,12 +3,14 @@
 //! values kept as integers, built without a gcd or an allocation), and
 //! their rounding for output.
 
+use super::crossing::{certified_crossing, LevelApprox, NumberPath};
 use super::level::Level;
 use super::rational::{decompose, ratio_to_f64};
 use super::rational::{rat_from_f64, rat_to_f64, Rat};
 use num_bigint::BigInt;
 use num_traits::Zero;
 use std::borrow::Cow;
+use std::sync::Arc;
 
 /// A point of the plane `z = c` with exact rational coordinates.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -220,8 +222,10 @@ fn crossing_i128(a: [f64; 3], b: [f64; 3], level: &Level) -> Option<Scaled> {
 /// integers `(x 2^e / w, y 2^e / w)` when they fit in `i128` (vertices and
 /// crossings of a mesh on one 62-bit grid, see [`crate::exact::grid`], or
 /// of an edge whose ends span at most 40 bits of one grid, at a level that
-/// is a small fraction), else as reduced rationals. Both forms are exact;
-/// equality is by value.
+/// is a small fraction); else, for a crossing, as its edge and level with
+/// the certified nearest doubles (lazy: the exact value is built only when
+/// asked for, see [`crate::exact::crossing`]); else as reduced rationals.
+/// Every form is exact; equality is by value.
 /// [`LoopPoint::exact`] gives the reduced rationals, [`LoopPoint::to_f64`]
 /// the nearest doubles.
 #[derive(Clone, Debug)]
@@ -230,7 +234,31 @@ pub struct LoopPoint(Repr);
 #[derive(Clone, Debug)]
 enum Repr {
     Scaled(Scaled),
+    Lazy(Lazy),
     Rational(Box<Point2>),
+}
+
+/// The crossing of edge `(a, b)` with `level`, and its nearest doubles.
+#[derive(Clone, Debug)]
+struct Lazy {
+    nearest: [f64; 2],
+    a: [f64; 3],
+    b: [f64; 3],
+    level: Arc<Level>,
+}
+
+impl Lazy {
+    fn exact(&self) -> Point2 {
+        Point2::on_edge(self.a, self.b, &self.level)
+    }
+
+    /// Whether the two are the same edge (either way) at the same level.
+    fn same_recipe(&self, o: &Lazy) -> bool {
+        let level = Arc::ptr_eq(&self.level, &o.level) || self.level.value() == o.level.value();
+        let bits = |p: [f64; 3]| p.map(f64::to_bits);
+        let (a, b, oa, ob) = (bits(self.a), bits(self.b), bits(o.a), bits(o.b));
+        level && ((a, b) == (oa, ob) || (a, b) == (ob, oa))
+    }
 }
 
 impl LoopPoint {
@@ -265,10 +293,41 @@ impl LoopPoint {
         }
     }
 
+    /// The exact crossing of edge `(a, b)` with `level` (`h(a) != h(b)`),
+    /// and the path that built it: integers on the edge's grid when they
+    /// fit `i128`; else, when `approx` (the level's double-double) is given
+    /// and the certified bound decides both nearest doubles, the edge and
+    /// the level kept with those doubles (the exact value built on
+    /// demand); else big rationals. Every path gives the same value.
+    pub fn on_edge_with(
+        a: [f64; 3],
+        b: [f64; 3],
+        level: &Arc<Level>,
+        approx: Option<&LevelApprox>,
+    ) -> (Self, NumberPath) {
+        if let Some(h) = crossing_i128(a, b, level) {
+            return (LoopPoint(Repr::Scaled(h)), NumberPath::Edge);
+        }
+        if let Some(nearest) = approx.and_then(|c| certified_crossing(a, b, c)) {
+            let lazy = Lazy {
+                nearest,
+                a,
+                b,
+                level: Arc::clone(level),
+            };
+            return (LoopPoint(Repr::Lazy(lazy)), NumberPath::Certified);
+        }
+        (
+            Point2::on_edge_reference(a, b, level).into(),
+            NumberPath::Big,
+        )
+    }
+
     /// The exact point as reduced rationals.
     pub fn exact(&self) -> Cow<'_, Point2> {
         match &self.0 {
             Repr::Scaled(h) => Cow::Owned(h.reduce()),
+            Repr::Lazy(l) => Cow::Owned(l.exact()),
             Repr::Rational(p) => Cow::Borrowed(p),
         }
     }
@@ -277,7 +336,19 @@ impl LoopPoint {
     pub fn to_f64(&self) -> [f64; 2] {
         match &self.0 {
             Repr::Scaled(h) => h.to_f64(),
+            Repr::Lazy(l) => l.nearest,
             Repr::Rational(p) => p.to_f64(),
+        }
+    }
+
+    /// Whether each coordinate is exactly zero (without building the
+    /// exact value).
+    pub fn zero_coordinates(&self) -> [bool; 2] {
+        match &self.0 {
+            Repr::Scaled(h) => [h.x == 0, h.y == 0],
+            // The certified doubles are zero only when both ends' values are.
+            Repr::Lazy(l) => l.nearest.map(|v| v == 0.0),
+            Repr::Rational(p) => [p.x.is_zero(), p.y.is_zero()],
         }
     }
 
@@ -292,7 +363,7 @@ impl LoopPoint {
     pub fn as_integers(&self) -> Option<(i128, i128, i128, i32)> {
         match &self.0 {
             Repr::Scaled(h) => Some((h.x, h.y, h.w, h.e)),
-            Repr::Rational(_) => None,
+            Repr::Lazy(_) | Repr::Rational(_) => None,
         }
     }
 
@@ -312,6 +383,10 @@ impl PartialEq for LoopPoint {
     fn eq(&self, other: &Self) -> bool {
         match (&self.0, &other.0) {
             (Repr::Scaled(a), Repr::Scaled(b)) if a == b => true,
+            // Correct rounding is a function of the value: different
+            // nearest doubles, different points.
+            (Repr::Lazy(a), Repr::Lazy(b)) if a.nearest != b.nearest => false,
+            (Repr::Lazy(a), Repr::Lazy(b)) if a.same_recipe(b) => true,
             _ => self.exact() == other.exact(),
         }
     }
@@ -387,6 +462,13 @@ mod tests {
             proptest::prop_assert_eq!(p.to_f64().map(|v| v + 0.0), [x + 0.0, y + 0.0]);
             proptest::prop_assert!(p == LoopPoint::from(Point2::of_vertex([x, y, z])));
         }
+    }
+
+    #[test]
+    fn loop_points_stay_small() {
+        // The lazy crossing (nearest doubles, edge, level) is no larger
+        // than the integer form: memory per point unchanged (80 bytes).
+        assert!(std::mem::size_of::<LoopPoint>() <= 80);
     }
 
     #[test]
