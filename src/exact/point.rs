@@ -8,7 +8,8 @@ use super::level::Level;
 use super::rational::{decompose, ratio_to_f64};
 use super::rational::{rat_from_f64, rat_to_f64, Rat};
 use num_bigint::BigInt;
-use num_traits::Zero;
+use num_integer::Integer;
+use num_traits::{Signed, ToPrimitive, Zero};
 use std::borrow::Cow;
 use std::sync::Arc;
 
@@ -42,7 +43,7 @@ impl Point2 {
     pub fn on_edge(a: [f64; 3], b: [f64; 3], level: &Level) -> Self {
         match crossing_i128(a, b, level) {
             Some(h) => h.reduce(),
-            None => Self::on_edge_reference(a, b, level),
+            None => crossing_big(a, b, level),
         }
     }
 
@@ -94,6 +95,89 @@ fn common_ints<const N: usize>(xs: [f64; N]) -> Option<([i128; N], i32)> {
         }
     }
     Some((out, e0))
+}
+
+/// The crossing with big integers: the six coordinates on their common
+/// binary grid `2^e0`, the level `p / q` in its units, then
+/// `x = 2^e0 X / (q dz)` with `X = ax q dz + (bx - ax)(p - q az)`
+/// (likewise `y`), reduced by [`reduce_over`]: a few products and two
+/// small gcds per coordinate, where the rational operations would reduce
+/// after each of them. Equal to [`Point2::on_edge_reference`]
+/// (property-tested over the whole `f64` range).
+fn crossing_big(a: [f64; 3], b: [f64; 3], level: &Level) -> Point2 {
+    let parts = [a[0], a[1], a[2], b[0], b[1], b[2]].map(decompose);
+    let e0 = parts.iter().flatten().map(|&(_, e)| e).min().unwrap_or(0);
+    let int = |p: Option<(i64, i32)>| {
+        p.map_or_else(BigInt::zero, |(m, e)| BigInt::from(m) << (e - e0) as usize)
+    };
+    let [ax, ay, az, bx, by, bz] = parts.map(int);
+    let (p, q) = (level.value().numer().clone(), level.value().denom().clone());
+    let (p, q) = if e0 <= 0 {
+        (p << e0.unsigned_abs() as usize, q)
+    } else {
+        (p, q << e0 as usize)
+    };
+    let mut dz = bz - &az;
+    let s = &p - &q * &az;
+    let qdz = &q * &dz;
+    let mut x = &ax * &qdz + (&bx - &ax) * &s;
+    let mut y = &ay * &qdz + (&by - &ay) * &s;
+    if dz.is_negative() {
+        dz = -dz;
+        x = -x;
+        y = -y;
+    }
+    Point2 {
+        x: reduce_over(x, &q, &dz, e0),
+        y: reduce_over(y, &q, &dz, e0),
+    }
+}
+
+/// `n 2^e / (q d)` in lowest terms (`q, d > 0`). `gcd(n, q d)` is
+/// `g1 g2` with `g1 = gcd(n, q)` and `g2 = gcd(n / g1, d)` (once `n / g1`
+/// and `q / g1` are coprime, a common factor of `n / g1` and `(q / g1) d`
+/// divides `d`); each is one remainder by a number that fits `u128` and a
+/// `u128` gcd. Larger `q` or `d` take one big gcd.
+fn reduce_over(n: BigInt, q: &BigInt, d: &BigInt, e: i32) -> Rat {
+    if n.is_zero() {
+        return Rat::zero();
+    }
+    let small = |v: &BigInt| v.to_u128().filter(|&v| v > 0);
+    let (n, w) = match (small(q), small(d)) {
+        (Some(qs), Some(ds)) => {
+            let rem = |n: &BigInt, m: u128| {
+                (n % BigInt::from(m))
+                    .magnitude()
+                    .to_u128()
+                    .expect("a remainder below m")
+            };
+            let g1 = gcd_u128(rem(&n, qs), qs);
+            let n = n / BigInt::from(g1);
+            let g2 = gcd_u128(rem(&n, ds), ds);
+            let n = n / BigInt::from(g2);
+            (n, BigInt::from(qs / g1) * BigInt::from(ds / g2))
+        }
+        _ => {
+            let w = q * d;
+            let g = n.gcd(&w);
+            (n / &g, w / g)
+        }
+    };
+    // Cancel powers of two between 2^e and the other side.
+    let (n, w) = if e >= 0 {
+        let tz = w
+            .trailing_zeros()
+            .unwrap_or(0)
+            .min(u64::from(e.unsigned_abs()));
+        (n << (u64::from(e.unsigned_abs()) - tz), w >> tz)
+    } else {
+        let tz = n
+            .trailing_zeros()
+            .unwrap_or(0)
+            .min(u64::from(e.unsigned_abs()));
+        (n >> tz, w << (u64::from(e.unsigned_abs()) - tz))
+    };
+    Rat::new_raw(n, w)
 }
 
 /// The gcd: Euclid's `u128` steps until both numbers fit in `u64` (`u128`
@@ -461,6 +545,45 @@ mod tests {
             proptest::prop_assert_eq!(p.exact().into_owned(), Point2::of_vertex([x, y, z]));
             proptest::prop_assert_eq!(p.to_f64().map(|v| v + 0.0), [x + 0.0, y + 0.0]);
             proptest::prop_assert!(p == LoopPoint::from(Point2::of_vertex([x, y, z])));
+        }
+    }
+
+    /// Every finite double: either sign, normal, subnormal or zero.
+    fn finite() -> proptest::num::f64::Any {
+        use proptest::num::f64::{NEGATIVE, NORMAL, POSITIVE, SUBNORMAL, ZERO};
+        POSITIVE | NEGATIVE | NORMAL | SUBNORMAL | ZERO
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(2048))]
+        /// The big-integer crossing equals the big-rational reference for
+        /// every pair of finite positions (any bit pattern: subnormals,
+        /// huge and tiny values in one edge) and levels that are decimals,
+        /// arbitrary fractions of the span, or arbitrary rationals.
+        #[test]
+        fn big_crossing_equals_the_reference(
+            a in proptest::array::uniform3(finite()),
+            b in proptest::array::uniform3(finite()),
+            small in proptest::array::uniform3(-1000i32..1000), kind in 0u8..3,
+            p in proptest::num::i64::ANY, q in 1i64..i64::MAX,
+        ) {
+            let mut a = a;
+            if kind == 2 {
+                // Near-zero noise beside ordinary values.
+                a = [f64::from(small[0]) * 0.1, 1e-300 * f64::from(small[1]), f64::from(small[2])];
+            }
+            proptest::prop_assume!(a.iter().chain(&b).all(|v| v.is_finite()) && a[2] != b[2]);
+            let (za, zb) = (rat_from_f64(a[2]), rat_from_f64(b[2]));
+            let level = Level::new(match kind {
+                0 => &za + (&zb - &za) * Rat::new((p.unsigned_abs() % q.unsigned_abs()).into(), q.into()),
+                _ => Rat::new(p.into(), q.into()),
+            });
+            let reference = Point2::on_edge_reference(a, b, &level);
+            let fast = crossing_big(a, b, &level);
+            proptest::prop_assert_eq!(fast.x.numer(), reference.x.numer());
+            proptest::prop_assert_eq!(fast.x.denom(), reference.x.denom());
+            proptest::prop_assert_eq!(fast.y.numer(), reference.y.numer());
+            proptest::prop_assert_eq!(fast.y.denom(), reference.y.denom());
         }
     }
 
