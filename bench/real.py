@@ -38,9 +38,14 @@ import trimesh
 from manifold3d import Manifold, Mesh
 path, levels_file = sys.argv[1], sys.argv[2]
 levels = [float(x) for x in open(levels_file).read().split()]
-m = trimesh.load_mesh(path, process=True)
-verts = np.ascontiguousarray(m.vertices, dtype=np.float32)
-faces = np.ascontiguousarray(m.faces, dtype=np.uint32)
+m = trimesh.load_mesh(path, process=False, skip_materials=True)
+# Vertices as written, exactly equal points merged (an STL's corners), as
+# wmslice welds; manifold3d holds float32.
+flat = np.ascontiguousarray(m.vertices, dtype=np.float64)
+keys = flat.view(np.dtype((np.void, 24))).ravel()
+_, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
+verts = np.ascontiguousarray(flat[first], dtype=np.float32)
+faces = np.ascontiguousarray(inverse.reshape(-1)[m.faces], dtype=np.uint32)
 t = time.perf_counter()
 man = Manifold(Mesh(vert_properties=verts, tri_verts=faces))
 status = str(man.status())
@@ -78,7 +83,7 @@ def dec(x):
 def z_range(path):
     import trimesh
 
-    m = trimesh.load_mesh(path, process=False)
+    m = trimesh.load_mesh(path, process=False, skip_materials=True)
     z = m.vertices[:, 2]
     return Fraction(float(z.min())), Fraction(float(z.max()))
 
@@ -108,6 +113,10 @@ def main():
     rows = []
     for mesh in args.meshes:
         name = os.path.basename(mesh)
+        if subprocess.run([args.wmslice, "check", mesh], capture_output=True).returncode != 0:
+            print(f"{name}: rejected by wmslice check (not a closed oriented manifold), skipped",
+                  flush=True)
+            continue
         lo, hi = z_range(mesh)
         h = four_digits(float(hi - lo) / args.layers)
         levels = []
@@ -156,9 +165,12 @@ def main():
                 row["manifold_error"] = r.stderr.strip()[-300:]
                 break
             peer.append(json.loads(r.stdout.strip().splitlines()[-1]))
+        if peer and peer[0]["tris"] != peer[0]["faces"]:
+            row["manifold_error"] = f"{peer[0]['status']}: {peer[0]['tris']} of {peer[0]['faces']} faces"
+            peer = None
         if peer:
             row["manifold"] = statistics.median(p["build_s"] + p["slice_s"] for p in peer)
-            row["manifold_status"] = peer[0]["status"]
+            row["manifold_loops"] = peer[0]["loops"]
         rows.append(row)
         print(json.dumps(row), flush=True)
 
