@@ -392,19 +392,31 @@ impl LoopPoint {
         if let Some(h) = crossing_i128(a, b, level) {
             return (LoopPoint(Repr::Scaled(h)), NumberPath::Edge);
         }
-        if let Some(nearest) = approx.and_then(|c| certified_crossing(a, b, c)) {
-            let lazy = Lazy {
+        let lazy = |nearest| {
+            LoopPoint(Repr::Lazy(Lazy {
                 nearest,
                 a,
                 b,
                 level: Arc::clone(level),
-            };
-            return (LoopPoint(Repr::Lazy(lazy)), NumberPath::Certified);
+            }))
+        };
+        if let Some(nearest) = approx.and_then(|c| certified_crossing(a, b, c)) {
+            return (lazy(nearest), NumberPath::Certified);
         }
-        (
-            Point2::on_edge_reference(a, b, level).into(),
-            NumberPath::Big,
-        )
+        // Undecided (a crossing exactly halfway between two doubles, or
+        // out of the certified range): the exact value decides the
+        // rounding. It is kept only when its doubles would not tell a zero
+        // coordinate (`zero_coordinates`): then it is rebuilt on demand.
+        let exact = crossing_big(a, b, level);
+        let nearest = exact.to_f64();
+        let zeros_told = [(&exact.x, nearest[0]), (&exact.y, nearest[1])]
+            .iter()
+            .all(|(v, f)| v.is_zero() == (*f == 0.0));
+        if zeros_told {
+            (lazy(nearest), NumberPath::Big)
+        } else {
+            (exact.into(), NumberPath::Big)
+        }
     }
 
     /// The exact point as reduced rationals.
