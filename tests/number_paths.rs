@@ -95,3 +95,20 @@ fn origin_centred_f32_torus_has_noise_near_zero() {
     // Every coordinate is an f32.
     assert!(b.pos.iter().flatten().all(|&c| f64::from(c as f32) == c));
 }
+
+#[test]
+fn verbose_prints_the_number_paths() {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_wmslice"))
+        .args(["slice", "unit_cube", "--at", "1/2", "--quiet", "--verbose"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    // The unit cube is on the grid: every point takes it.
+    let line = err
+        .lines()
+        .find(|l| l.starts_with("number paths (loop points): grid "))
+        .unwrap_or_else(|| panic!("{err}"));
+    assert!(line.ends_with("per-edge 0, certified 0, big 0"), "{line}");
+    assert!(!line.contains("grid 0,"), "{line}");
+}
