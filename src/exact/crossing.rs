@@ -40,6 +40,12 @@ const MID_HI: f64 = f64::from_bits((1023 + 400) << 52);
 const OUT_LO: f64 = f64::from_bits((1023 - 500) << 52);
 const OUT_HI: f64 = f64::from_bits((1023 + 500) << 52);
 
+/// `2^-700`: covers every error that the relative bounds miss because a
+/// product underflowed (see [`coordinate`]).
+const ABS: f64 = f64::from_bits((1023 - 700) << 52);
+/// `2^-1000`: covers the bound's own underflows.
+const ABS_BOUND: f64 = f64::from_bits((1023 - 1000) << 52);
+
 /// `a + b = s + e` exactly (Knuth's TwoSum; exact for all finite inputs
 /// whose sum does not overflow).
 #[inline(always)]
@@ -123,9 +129,19 @@ impl LevelApprox {
 ///    `|R / (Dh + Dl) - x1| <= |r / Dh| (u + 2u) + eR / (|Dh| (1 - u))`,
 ///    so `|x - (x0 + x1)| <= 3.01u |x1| + 1.01 eR / |Dh|`.
 ///
+/// Underflow: a sum that underflows is exact, and TwoProd is exact in the
+/// ranges checked (`|ax Uh| >= 2^-700`; `|x0 Dh|` is near `|Nh|`, which
+/// is at least `2^-900` whenever `|f| >= 2^-500` is accepted below). A
+/// rounded product that underflows (`q1`, `q2`, `x0 Dl`, and the
+/// products that evaluate `Ue`, `Ve`, `eN`, `eR`) errs by at most
+/// `2^-1074` beyond its relative bound, multiplied by at most `2^300`
+/// (`|ax| Ue`): below `2^-770` in all. `ABS = 2^-700`, added to `|eN|`
+/// and to `eR`, covers it.
+///
 /// The bound is evaluated in rounded arithmetic on non-negative terms
 /// (fewer than 30 operations, each raising at most `u` relatively), then
-/// doubled: a safe upper bound. `(f, e) = TwoSum(x0, x1)`, `f` the
+/// doubled, plus `2^-1000` for the underflow of its smallest terms: a
+/// safe upper bound. `(f, e) = TwoSum(x0, x1)`, `f` the
 /// candidate; `x0 + x1 - f = e` exactly. The exact `x` rounds to `f` when
 /// `e + B < g+/2` and `e - B > -g-/2` (`g+`, `g-` the gaps to `f`'s
 /// neighbours, halved exactly); each test is on a rounded sum compared
@@ -154,15 +170,17 @@ fn coordinate(
     let (n_h, n_l) = two_sum(s_h, t);
     let e_n = 5.0 * U * (s_l.abs() + p1l.abs() + p2l.abs() + q1.abs() + q2.abs())
         + ax.abs() * u_e
-        + bx.abs() * v_e;
+        + bx.abs() * v_e
+        + ABS;
     let x0 = n_h / d_h;
     let (p, pl) = two_prod(x0, d_h);
     let diff = n_h - p;
     let x0dl = x0 * d_l;
     let r = (diff - pl) + (n_l - x0dl);
-    let e_r = 3.0 * U * (diff.abs() + pl.abs() + n_l.abs() + x0dl.abs()) + U * x0dl.abs() + e_n;
+    let e_r =
+        3.0 * U * (diff.abs() + pl.abs() + n_l.abs() + x0dl.abs()) + U * x0dl.abs() + e_n + ABS;
     let x1 = r / d_h;
-    let bound = 2.0 * (3.01 * U * x1.abs() + 1.01 * e_r / d_h.abs());
+    let bound = 2.0 * (3.01 * U * x1.abs() + 1.01 * e_r / d_h.abs()) + ABS_BOUND;
     let (f, e) = two_sum(x0, x1);
     if !(OUT_LO..=OUT_HI).contains(&f.abs()) || !bound.is_finite() {
         return None;
