@@ -7,6 +7,7 @@ use super::{emit, slice_error, usage, ExitCode, Failure, Tag};
 use anyhow::anyhow;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::{IsTerminal, Write};
+use wmslice::exact::crossing::{path_counts, NumberPath};
 use wmslice::exact::parse_rational;
 use wmslice::exact::rational::rat_from_f64;
 use wmslice::exact::rational::{rat_to_f64, rat_to_string, Rat};
@@ -243,7 +244,9 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
             }
         };
         bar.finish_and_clear();
-        return sink.close().map_err(output_error);
+        sink.close().map_err(output_error)?;
+        report_paths(&a);
+        return Ok(());
     }
     let mut sets: Vec<LevelSet> = Vec::with_capacity(levels.len());
     let keep = |_: usize, ls: LevelSet| ls;
@@ -254,6 +257,7 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
     })
     .map_err(sweep_error)?;
     bar.finish_and_clear();
+    report_paths(&a);
     let text = match a.format {
         Format::Svg | Format::Html | Format::Cli | Format::CliBinary => {
             if a.certificate.is_some() {
@@ -272,6 +276,19 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
     match &a.certificate {
         Some(path) => super::certificate::write(path, &a, &input, &levels, &sets, text.as_bytes()),
         None => Ok(()),
+    }
+}
+
+/// With `--verbose`: how many loop points took each number path.
+fn report_paths(a: &SliceArgs) {
+    if a.verbose {
+        let counts = path_counts();
+        let text: Vec<String> = NumberPath::ALL
+            .iter()
+            .zip(counts)
+            .map(|(p, n)| format!("{} {n}", p.name()))
+            .collect();
+        eprintln!("number paths (loop points): {}", text.join(", "));
     }
 }
 

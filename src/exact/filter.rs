@@ -17,7 +17,6 @@
 use super::homogeneous;
 use super::point::LoopPoint;
 use super::predicates::{orient2d_xy, Sign};
-use num_traits::Zero;
 
 /// A closed interval of doubles known to contain an exact value.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -199,7 +198,7 @@ impl<'a> FilteredPoint<'a> {
         let (x, y) = from_integers.unwrap_or_else(|| {
             // The nearest doubles: within 2^-53 relatively when normal.
             let [x, y] = p.to_f64();
-            let exact = p.exact();
+            let [zero_x, zero_y] = p.zero_coordinates();
             let bounded = |v: f64, zero: bool| {
                 if v == 0.0 && zero {
                     0.0
@@ -209,7 +208,7 @@ impl<'a> FilteredPoint<'a> {
                     f64::NAN
                 }
             };
-            (bounded(x, exact.x.is_zero()), bounded(y, exact.y.is_zero()))
+            (bounded(x, zero_x), bounded(y, zero_y))
         });
         FilteredPoint {
             exact: p,

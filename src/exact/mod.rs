@@ -6,6 +6,7 @@
 //! determinant; floats appear only as (exact) inputs and as rounded output.
 
 pub mod area;
+pub mod crossing;
 pub mod dyadic;
 pub mod filter;
 pub mod grid;

@@ -16,8 +16,9 @@ use crate::classify::{
     Facing, RidgeKind, Side, Signs,
 };
 use crate::exact::area::{signed_area, total_signed_area};
+use crate::exact::crossing::Crossings;
 use crate::exact::filter::{signed_area_filtered, FilteredPoint};
-use crate::exact::grid::{GridLevel, MeshGrid};
+use crate::exact::grid::MeshGrid;
 use crate::exact::point::LoopPoint;
 use crate::exact::rational::{rat_to_f64, Rat};
 use crate::exact::{Level, Point2, Sign};
@@ -310,8 +311,8 @@ pub(crate) fn touches(mesh: &Mesh, f: FaceId, level: &Level) -> bool {
 struct LevelBuilder<'a> {
     mesh: &'a Mesh,
     topo: &'a Topology,
-    /// The mesh's grid and the level on it, when crossings fit in `i128`.
-    grid: Option<(&'a MeshGrid, GridLevel)>,
+    /// Builds the exact points (on the mesh's grid when it fits).
+    points: Crossings<'a>,
     level: &'a Level,
     signs: Signs<'a>,
     active: &'a [FaceId],
@@ -322,10 +323,7 @@ impl<'a> LevelBuilder<'a> {
         LevelBuilder {
             mesh: slicer.mesh,
             topo: &slicer.topo,
-            grid: slicer
-                .grid
-                .as_ref()
-                .and_then(|g| Some((g, g.level(level)?))),
+            points: Crossings::new(slicer.grid.as_ref(), level),
             level,
             signs: Signs::new(slicer.mesh, level),
             active,
@@ -347,13 +345,11 @@ impl<'a> LevelBuilder<'a> {
 
     /// The exact point of cut point `c`, carried by `[a, b]`.
     fn cut_point(&self, c: CutPoint, [a, b]: Carrier) -> LoopPoint {
-        match (c, &self.grid) {
-            (CutPoint::AtVertex(v), Some((g, _))) => g.point(v),
-            (CutPoint::AtVertex(v), None) => LoopPoint::of_vertex(self.mesh.pos(v)),
-            (CutPoint::OnEdge(_), Some((g, level))) => g.crossing(a, b, level),
-            (CutPoint::OnEdge(_), None) => {
-                LoopPoint::on_edge(self.mesh.pos(a), self.mesh.pos(b), self.level)
-            }
+        match c {
+            CutPoint::AtVertex(v) => self.points.vertex(v, self.mesh.pos(v)),
+            CutPoint::OnEdge(_) => self
+                .points
+                .crossing(a, b, self.mesh.pos(a), self.mesh.pos(b)),
         }
     }
 
