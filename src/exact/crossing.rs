@@ -15,7 +15,7 @@
 //! interval of one double; otherwise `None`, and the caller computes the
 //! exact value. Its cost does not depend on where the coordinates lie
 //! (only their range is bounded, so that nothing underflows or
-//! overflows). The derivation of `B` is on [`coordinate`].
+//! overflows). The derivation of `B` is on `coordinate` (below).
 
 use super::grid::{GridLevel, MeshGrid};
 use super::level::Level;
@@ -193,7 +193,7 @@ fn coordinate(
 }
 
 /// The nearest doubles of the crossing of edge `(a, b)` with the level,
-/// when the certified bound decides both (see [`coordinate`]); `None`
+/// when the certified bound decides both (see `coordinate`); `None`
 /// out of range or when undecided. The caller guarantees `az != bz`.
 #[inline]
 pub fn certified_crossing(a: [f64; 3], b: [f64; 3], c: &LevelApprox) -> Option<[f64; 2]> {

@@ -146,20 +146,20 @@ impl Planar for EpsPoint<'_> {
 /// The exact orientation of a closed polygon of moving points: the sign of
 /// the first non-zero coefficient of its signed area
 /// `a0 + a1 epsilon + a2 epsilon^2`. `a0` is the limit polygon's area
-/// (filtered, exact when the filter cannot tell); `a1` and `a2` are
-/// computed only when `a0 = 0`:
+/// (`limit`: filtered, exact when the filter cannot tell); `a1` and `a2`
+/// are computed only when `a0 = 0`:
 /// `2 a1 = sum p_i x d_{i+1} + d_i x p_{i+1}`, `2 a2 = sum d_i x d_{i+1}`.
-/// Also returns a double within the certified bound of `a0` (the limit
-/// area, rounded).
-pub fn orientation(points: &[EpsPoint<'_>], limit: &[LoopPoint]) -> (Sign, f64) {
+pub fn orientation(points: &[EpsPoint<'_>], limit: &[LoopPoint]) -> Sign {
     let bases: Vec<FilteredPoint<'_>> = points.iter().map(|p| p.base.clone()).collect();
-    let estimate = signed_area_filtered(&bases);
-    if let Some(s) = estimate.sign.filter(|&s| s != Sign::Zero) {
-        return (s, estimate.approx);
+    if let Some(s) = signed_area_filtered(&bases)
+        .sign
+        .filter(|&s| s != Sign::Zero)
+    {
+        return s;
     }
     let a0 = signed_area(limit);
     if !a0.is_zero() {
-        return (Sign::of_rat(&a0), super::rational::rat_to_f64(&a0));
+        return Sign::of_rat(&a0);
     }
     let n = points.len();
     let (mut a1, mut a2) = (Rat::zero(), Rat::zero());
@@ -170,10 +170,9 @@ pub fn orientation(points: &[EpsPoint<'_>], limit: &[LoopPoint]) -> (Sign, f64) 
         a1 += cross(&p0.x, &p0.y, &dq.x, &dq.y) + cross(&dp.x, &dp.y, &q0.x, &q0.y);
         a2 += cross(&dp.x, &dp.y, &dq.x, &dq.y);
     }
-    let sign = if a1.is_zero() {
+    if a1.is_zero() {
         Sign::of_rat(&a2)
     } else {
         Sign::of_rat(&a1)
-    };
-    (sign, 0.0)
+    }
 }

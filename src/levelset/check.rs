@@ -107,10 +107,11 @@ pub fn check_level_invariants(mesh: &Mesh, topo: &Topology, ls: &LevelSet) -> Re
                 }
             }
             let area = &areas[i];
-            if Sign::of_rat(&rat_from_f64(l.area_approx)) != Sign::of_rat(area) {
+            let rounded: Vec<[f64; 2]> = l.points.iter().map(|p| p.to_f64()).collect();
+            let approx = l.rounded_area(&rounded);
+            if Sign::of_rat(&rat_from_f64(approx)) != Sign::of_rat(area) {
                 return Err(format!(
-                    "{name} loop {i}: rounded area {} has the wrong sign",
-                    l.area_approx
+                    "{name} loop {i}: rounded area {approx} has the wrong sign"
                 ));
             }
             // The orientation at c -/+ epsilon: the first non-zero term of

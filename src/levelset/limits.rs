@@ -80,12 +80,11 @@ impl LevelBuilder<'_> {
                     .collect()
             })
             .collect();
-        let oriented: Vec<(Sign, f64)> = moving
+        let signs: Vec<Sign> = moving
             .iter()
             .zip(&chained)
             .map(|(m, c)| orientation(m, &c.points))
             .collect();
-        let signs: Vec<Sign> = oriented.iter().map(|o| o.0).collect();
         // Every crossing of a limit lies on its loop alone for small
         // epsilon: any point represents its loop.
         let nesting = nest(&Family {
@@ -95,13 +94,12 @@ impl LevelBuilder<'_> {
         });
         drop(moving);
         let mut loops = Vec::with_capacity(chained.len());
-        for ((c, (sign, area)), n) in chained.into_iter().zip(oriented).zip(nesting) {
+        for ((c, sign), n) in chained.into_iter().zip(signs).zip(nesting) {
             let collapsed = self.is_collapsed(&c, &segments);
             loops.push(Loop {
                 cuts: c.cuts,
                 points: c.points,
                 orientation: sign,
-                area_approx: area,
                 role: n.role,
                 parent: n.parent,
                 collapsed,

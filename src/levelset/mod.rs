@@ -15,7 +15,7 @@ use crate::classify::{
     edges::classify_edges, faces::face_regions, vertices::extremum_kind, EdgeClass, ExtremumKind,
     Facing, RidgeKind, Side, Signs,
 };
-use crate::exact::area::{signed_area, total_signed_area};
+use crate::exact::area::{rounded_area, signed_area, total_signed_area};
 use crate::exact::crossing::Crossings;
 use crate::exact::filter::{signed_area_filtered, FilteredPoint};
 use crate::exact::grid::MeshGrid;
@@ -40,13 +40,9 @@ pub struct Loop {
     /// Exact points, in the mesh's units (held as integers when they
     /// fit; [`LoopPoint::exact`] gives reduced rationals).
     pub points: Vec<LoopPoint>,
-    /// The exact sign of the signed area: positive when counter-clockwise.
+    /// The exact sign of the signed area: positive when counter-clockwise
+    /// (for L- and L+, at `c -/+ epsilon`: see `collapsed`).
     pub orientation: Sign,
-    /// The signed area, rounded: a double within a certified error bound
-    /// of the exact area and of its sign ([`signed_area_filtered`]), or the
-    /// nearest double of the exact area when the bound could not decide
-    /// the sign. The exact area is [`Loop::area`].
-    pub area_approx: f64,
     /// Outer or hole, from the nesting depth in its family.
     pub role: Role,
     /// Index of the smallest enclosing loop of the same family.
@@ -68,6 +64,16 @@ impl Loop {
     pub fn area(&self) -> Rat {
         signed_area(&self.points)
     }
+
+    /// The signed area as a double: from the nearest doubles of the points
+    /// (`rounded`, as [`LoopPoint::to_f64`] gives them), within the
+    /// certified bound of [`rounded_area`] (about `n u d (4m + 3d)` for
+    /// `n` points, loop size `d`, distance `m` from the origin) and of the
+    /// exact sign; where that bound cannot show the sign, the nearest
+    /// double of the exact area. A function of the exact loop alone.
+    pub fn rounded_area(&self, rounded: &[[f64; 2]]) -> f64 {
+        rounded_area(rounded).unwrap_or_else(|| rat_to_f64(&self.area()))
+    }
 }
 
 /// The exact total signed area of a family of loops (the area they
@@ -76,16 +82,12 @@ pub fn total_area(loops: &[Loop]) -> Rat {
     total_signed_area(loops.iter().map(|l| l.points.as_slice()))
 }
 
-/// The exact sign of a polygon's area and its rounded value.
-fn orientation_of(filtered: &[FilteredPoint<'_>], points: &[LoopPoint]) -> (Sign, f64) {
-    let estimate = signed_area_filtered(filtered);
-    match estimate.sign {
-        Some(sign) => (sign, estimate.approx),
-        None => {
-            let exact = signed_area(points);
-            (Sign::of_rat(&exact), rat_to_f64(&exact))
-        }
-    }
+/// The exact sign of a polygon's area: filtered, exact when the filter
+/// cannot tell.
+fn orientation_of(filtered: &[FilteredPoint<'_>], points: &[LoopPoint]) -> Sign {
+    signed_area_filtered(filtered)
+        .sign
+        .unwrap_or_else(|| Sign::of_rat(&signed_area(points)))
 }
 
 /// A face region F with its boundary loops dF.
@@ -268,14 +270,11 @@ impl<'m> Slicer<'m> {
         if !self.unit.is_one() {
             let u = &self.unit;
             let u2 = u * u;
+            // The signs are unchanged (u^2 > 0).
             let scale = |l: &mut Loop| {
                 for p in &mut l.points {
                     *p = p.scaled(u);
                 }
-                // The sign is unchanged (u^2 > 0); the rounding is redone.
-                let filtered: Vec<FilteredPoint<'_>> =
-                    l.points.iter().map(FilteredPoint::approximate).collect();
-                l.area_approx = orientation_of(&filtered, &l.points).1;
             };
             let shared = Arc::ptr_eq(&ls.contours, &ls.below);
             Arc::make_mut(&mut ls.contours).iter_mut().for_each(scale);
@@ -540,7 +539,7 @@ impl<'a> LevelBuilder<'a> {
             .iter()
             .map(|(_, pts)| pts.iter().map(FilteredPoint::approximate).collect())
             .collect();
-        let orientations: Vec<(Sign, f64)> = filtered
+        let orientations: Vec<Sign> = filtered
             .iter()
             .zip(&shapes)
             .map(|(f, (_, pts))| orientation_of(f, pts))
@@ -552,18 +551,17 @@ impl<'a> LevelBuilder<'a> {
                 .iter_mut()
                 .flatten()
                 .for_each(FilteredPoint::enclose);
-            let signs: Vec<Sign> = orientations.iter().map(|o| o.0).collect();
             let reps = representatives(shapes.iter().map(|(cuts, _)| cuts.as_slice()));
             nest(&Family {
                 loops: &filtered,
-                orientation: &signs,
+                orientation: &orientations,
                 representative: &reps,
             })
         };
         drop(filtered);
         let mut loops = Vec::with_capacity(shapes.len());
         for (i, (cuts, points)) in shapes.into_iter().enumerate() {
-            let (orientation, area_approx) = orientations[i];
+            let orientation = orientations[i];
             let (role, parent) = nesting
                 .get(i)
                 .map_or((Role::Outer, None), |n| (n.role, n.parent));
@@ -571,7 +569,6 @@ impl<'a> LevelBuilder<'a> {
                 cuts,
                 points,
                 orientation,
-                area_approx,
                 role,
                 parent,
                 collapsed: false,

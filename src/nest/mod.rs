@@ -10,7 +10,7 @@
 //! representative point (one of its vertices that lies on no other loop)
 //! is tested by exact crossing parity against the loops whose bounding
 //! boxes hold it (found through a uniform grid of boxes); cheap when loops
-//! lie side by side. A plane sweep ([`sweep::parents`]): `O(n log n)` in
+//! lie side by side. A plane sweep (`sweep.rs`): `O(n log n)` in
 //! the number of points however deep the nesting. The sweep is taken when
 //! the ray casting's work, counted before it starts, would exceed a few
 //! times the sweep's, or when a loop has no representative.

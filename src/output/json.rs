@@ -191,14 +191,15 @@ fn key(out: &mut Vec<u8>, key: &str, first: bool) {
 }
 
 /// Writes one loop. With exact output, `area` is the nearest double of
-/// `area_exact` (computed anyway); without, the loop's certified rounding
-/// ([`Loop::area_approx`]: of the exact sign, within a few ulps of the
-/// largest shoelace partial sum per point), so the exact area is never
-/// computed.
+/// `area_exact` (computed anyway); without, the certified rounding from
+/// the written points ([`Loop::rounded_area`]: of the exact sign, within a
+/// bound relative to the loop's size), so the exact area is computed only
+/// where that bound cannot show the sign.
 fn json_loop(out: &mut Vec<u8>, l: &Loop, ex: Exactness) {
     out.push(b'{');
     key(out, "points", true);
-    array(out, &l.points, |o, p| pair(o, p.to_f64()));
+    let rounded: Vec<[f64; 2]> = l.points.iter().map(|p| p.to_f64()).collect();
+    array(out, &rounded, |o, p| pair(o, *p));
     let exact_area = (ex == Exactness::WithExact).then(|| l.area());
     if ex == Exactness::WithExact {
         key(out, "exact", false);
@@ -223,7 +224,10 @@ fn json_loop(out: &mut Vec<u8>, l: &Loop, ex: Exactness) {
         });
     }
     key(out, "area", false);
-    let rounded = exact_area.as_ref().map_or(l.area_approx, rat_to_f64);
+    let rounded = match &exact_area {
+        Some(a) => rat_to_f64(a),
+        None => l.rounded_area(&rounded),
+    };
     if rounded.is_finite() {
         number(out, rounded);
     } else {
@@ -496,7 +500,13 @@ mod tests {
                     })
                     .collect()
             }),
-            area: exact_area.as_ref().map_or(l.area_approx, rat_to_f64),
+            area: exact_area.as_ref().map_or_else(
+                || {
+                    let q: Vec<[f64; 2]> = l.points.iter().map(|p| p.to_f64()).collect();
+                    l.rounded_area(&q)
+                },
+                rat_to_f64,
+            ),
             area_exact: exact_area.as_ref().map(rat_to_string),
             role: l.role,
             parent: l.parent,
