@@ -17,6 +17,7 @@ use wmslice::output::certificate::{
     sha256_hex, Certificate, InputPart, LevelPart, Numeric, Options, ResultPart, Tool, Verdict,
 };
 use wmslice::output::json::{to_json, Exactness, MeshHeader};
+use wmslice::verify::Verifier;
 use wmslice::LevelSet;
 
 fn name_of<T: ValueEnum>(v: &T) -> String {
@@ -37,7 +38,8 @@ pub fn write(
 ) -> Result<(), Failure> {
     let header = MeshHeader::new(&input.mesh, input.unit.as_ref());
     let document = to_json(&header, sets, Exactness::WithExact);
-    let verification = Verdict::of(&input.mesh, input.unit.as_ref(), &document)
+    let verification = Verifier::new(&input.mesh, input.unit.as_ref())
+        .and_then(|v| Verdict::of(&v, &document))
         .map_err(wmslice::output::certificate::CertificateError::from)
         .and_then(Verdict::into_verification)
         .tag(ExitCode::Internal)?;

@@ -21,7 +21,7 @@ use crate::mesh::Mesh;
 use crate::nest::Role;
 use crate::output::json::{hex, mesh_sha256, MeshHeader};
 use crate::verify::report::{Checked, Report};
-use crate::verify::{verify, VerifyError};
+use crate::verify::{Verifier, VerifyError};
 use serde::Serialize;
 use sha2::{Digest, Sha256};
 
@@ -292,11 +292,10 @@ pub struct Verdict {
 }
 
 impl Verdict {
-    /// Verifies an exact `wmslice-levelset` document (`mesh` in stored
-    /// units, `unit` the snap grid).
-    pub fn of(mesh: &Mesh, unit: Option<&Rat>, exact_document: &str) -> Result<Self, VerifyError> {
+    /// Verifies an exact `wmslice-levelset` document.
+    pub fn of(verifier: &Verifier<'_>, exact_document: &str) -> Result<Self, VerifyError> {
         Ok(Verdict {
-            report: verify(mesh, unit, exact_document)?,
+            report: verifier.verify(exact_document)?,
         })
     }
 
