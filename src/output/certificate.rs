@@ -187,7 +187,7 @@ pub struct ResultPart {
 }
 
 /// Counts and exact areas of one level.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, serde::Deserialize)]
 pub struct LevelPart {
     /// The level, exact.
     pub z: String,
@@ -315,6 +315,22 @@ impl Verdict {
         };
         self.report.violations.extend(other.report.violations);
         self
+    }
+
+    /// What was checked.
+    pub fn checked(&self) -> Checked {
+        self.report.checked
+    }
+
+    /// The verdict of documents that passed, checking what `checked` says
+    /// (a shard's verdict, passed on by its counts).
+    pub fn passed(checked: Checked) -> Self {
+        Verdict {
+            report: Report {
+                checked,
+                violations: Vec::new(),
+            },
+        }
     }
 
     /// The certificate's verification part, or the violations.
