@@ -247,7 +247,7 @@ fn points_array<'py>(
     py: Python<'py>,
     pts: impl Iterator<Item = [f64; 2]>,
 ) -> Bound<'py, PyArray2<f64>> {
-    let xy: Vec<f64> = pts.flat_map(|[x, y]| [x, y]).collect();
+    let xy: Vec<f64> = pts.flatten().collect();
     let rows = xy.len() / 2;
     // `rows * 2` values: the shape fits.
     let a = Array2::from_shape_vec((rows, 2), xy).unwrap_or_else(|_| Array2::zeros((0, 2)));

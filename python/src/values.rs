@@ -46,14 +46,14 @@ pub fn exact(what: &str, obj: &Bound<'_, PyAny>) -> PyResult<Rat> {
     }
     let fraction = py.import("fractions")?.getattr("Fraction")?;
     if obj.is_instance(&fraction)? {
-        return Ok(obj.extract::<Rat>()?);
+        return obj.extract::<Rat>();
     }
     if obj.is_instance(&py.import("decimal")?.getattr("Decimal")?)? {
         // Exact; NaN and infinities are refused by Fraction.
         let f = fraction
             .call1((obj,))
             .map_err(|_| bad(what, obj, "not a finite number"))?;
-        return Ok(f.extract::<Rat>()?);
+        return f.extract::<Rat>();
     }
     if obj.is_instance(&py.import("numbers")?.getattr("Integral")?)? {
         let i = obj.call_method0("__index__")?;
