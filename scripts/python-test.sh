@@ -12,6 +12,7 @@ if [ ! -x "$venv/bin/python" ]; then
 fi
 "$venv/bin/python" -m pip install -q --disable-pip-version-check \
   "maturin>=1.9,<2" numpy pytest "dask[distributed]" trimesh "shapely>=2"
-# Built without build isolation: maturin is in the venv already.
+# Built without build isolation: maturin is in the venv already (on PATH).
+export PATH="$(cd "$venv" && pwd)/bin:$PATH"
 "$venv/bin/python" -m pip install -q --disable-pip-version-check --no-build-isolation --force-reinstall --no-deps .
 "$venv/bin/python" -m pytest -q -p no:cacheprovider python/tests "$@"
