@@ -42,20 +42,20 @@ def torus_of(triangles: int):
 def run_wmslice(v, f, zs, threads):
     import wmslice
 
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     m = wmslice.Mesh(v, f)
     many = m.slice_many(zs, threads=threads)
     n = sum(len(loop.points) for ls in many for loop in ls.contours)
-    return time.perf_counter() - t0, n
+    return time.perf_counter() - t0, time.process_time() - c0, n
 
 
 def run_manifold(v, f, zs):
     import manifold3d
 
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     man = manifold3d.Manifold(manifold3d.Mesh(vert_properties=v, tri_verts=f))
     n = sum(len(p) for z in zs for p in man.slice(float(z)).to_polygons())
-    return time.perf_counter() - t0, n
+    return time.perf_counter() - t0, time.process_time() - c0, n
 
 
 def main():
@@ -75,13 +75,17 @@ def main():
     ]
     result = {}
     for name, fn in rows:
-        times, points = [], None
+        times, cpu, points = [], [], None
         for _ in range(a.runs):
-            t, n = fn()
+            t, c, n = fn()
             times.append(t)
+            cpu.append(c)
             points = n
         result[name] = statistics.median(times)
-        print(f"{name:20s} median {result[name]:.3f} s  (runs {', '.join(f'{t:.3f}' for t in times)}; {points} contour points)")
+        print(
+            f"{name:20s} median {result[name]:.3f} s wall, {statistics.median(cpu):.3f} s CPU"
+            f"  (runs {', '.join(f'{t:.3f}' for t in times)}; {points} contour points)"
+        )
     for name in ("wmslice 1 thread", "wmslice 2 threads"):
         print(f"manifold3d / {name}: {result['manifold3d'] / result[name]:.2f}x")
 
