@@ -12,9 +12,9 @@ use std::path::Path;
 use wmslice::datasets;
 use wmslice::exact::parse_rational;
 use wmslice::exact::rational::{rat_to_f64, rat_to_string, Rat};
-use wmslice::mesh::flip::{repair_degenerate, Flip};
+use wmslice::mesh::flip::Flip;
 use wmslice::mesh::io::{load_bytes, MeshFormat};
-use wmslice::mesh::snap::snap;
+use wmslice::mesh::prepare::{prepare, SnapStats};
 use wmslice::Mesh;
 
 /// A mesh as given on the command line: a file, or a built-in dataset.
@@ -23,6 +23,8 @@ pub struct Input {
     pub mesh: Mesh,
     /// The snap grid, if any.
     pub unit: Option<Rat>,
+    /// What snapping did, if snapped.
+    pub snap: Option<SnapStats>,
     /// What loading did, for the user.
     pub notes: Vec<String>,
     /// The bytes of the input file (empty for a built-in dataset).
@@ -34,15 +36,8 @@ pub struct Input {
 /// At most this many flips are listed in the note; the rest are counted.
 const LISTED_FLIPS: usize = 10;
 
-/// Removes the degenerate faces edge flips can remove, with a note.
-fn repaired(mut input: Input) -> Input {
-    let (mesh, flips) = {
-        let r = repair_degenerate(&input.mesh);
-        if r.flips.is_empty() {
-            return input;
-        }
-        (r.mesh.into_owned(), r.flips)
-    };
+/// The note on the degenerate faces removed by edge flips.
+fn flips_note(flips: &[Flip]) -> String {
     let mut listed: Vec<String> = flips
         .iter()
         .take(LISTED_FLIPS)
@@ -51,21 +46,16 @@ fn repaired(mut input: Input) -> Input {
     if flips.len() > LISTED_FLIPS {
         listed.push(format!("and {} more", flips.len() - LISTED_FLIPS));
     }
-    input.notes.push(format!(
+    format!(
         "flipped {} degenerate faces (a vertex inside the opposite edge; the surface does not move): {}",
         flips.len(),
         listed.join(", ")
-    ));
-    input.mesh = mesh;
-    input.flips = flips;
-    input
+    )
 }
 
+/// Reads the mesh, snaps it when asked and removes degenerate faces
+/// ([`wmslice::mesh::prepare`]), with notes for the user.
 pub fn load_input(spec: &str, snap_arg: Option<&str>) -> Result<Input, Failure> {
-    load_unrepaired(spec, snap_arg).map(repaired)
-}
-
-fn load_unrepaired(spec: &str, snap_arg: Option<&str>) -> Result<Input, Failure> {
     let path = Path::new(spec);
     let mut notes = Vec::new();
     let mut file_bytes = Vec::new();
@@ -90,32 +80,29 @@ fn load_unrepaired(spec: &str, snap_arg: Option<&str>) -> Result<Input, Failure>
             error: anyhow!("no such file or built-in dataset: {spec} (see `wmslice gen --list`)"),
         });
     };
-    match snap_arg {
-        None => Ok(Input {
-            mesh,
-            unit: None,
-            notes,
-            file_bytes,
-            flips: Vec::new(),
-        }),
-        Some(q) => {
-            let q = parse_rational(q).tag(ExitCode::Usage)?;
-            let s = snap(&mesh, &q).tag(ExitCode::InvalidMesh)?;
-            notes.push(format!(
-                "snapped to grid {}: {} vertices moved, largest coordinate move {} (~{}), {} vertices merged",
-                rat_to_string(&q),
-                s.moved,
-                rat_to_string(&s.max_move),
-                rat_to_f64(&s.max_move),
-                s.merged
-            ));
-            Ok(Input {
-                mesh: s.mesh,
-                unit: Some(s.unit),
-                notes,
-                file_bytes,
-                flips: Vec::new(),
-            })
-        }
+    let q = snap_arg
+        .map(|q| parse_rational(q).tag(ExitCode::Usage))
+        .transpose()?;
+    let p = prepare(mesh, q.as_ref()).tag(ExitCode::InvalidMesh)?;
+    if let Some(s) = &p.snap {
+        notes.push(format!(
+            "snapped to grid {}: {} vertices moved, largest coordinate move {} (~{}), {} vertices merged",
+            rat_to_string(&s.grid),
+            s.moved,
+            rat_to_string(&s.max_move),
+            rat_to_f64(&s.max_move),
+            s.merged
+        ));
     }
+    if !p.flips.is_empty() {
+        notes.push(flips_note(&p.flips));
+    }
+    Ok(Input {
+        mesh: p.mesh,
+        unit: p.unit,
+        snap: p.snap,
+        notes,
+        file_bytes,
+        flips: p.flips,
+    })
 }

@@ -9,9 +9,10 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::io::{IsTerminal, Write};
 use wmslice::exact::crossing::{path_counts, NumberPath};
 use wmslice::exact::parse_rational;
-use wmslice::exact::rational::rat_from_f64;
 use wmslice::exact::rational::{rat_to_f64, rat_to_string, Rat};
-use wmslice::layers::{plan_levels, slice_plan_then, LayerPlan, SweepError, SweepPlan};
+use wmslice::layers::{
+    height_range, plan_levels, slice_plan_then, LayerPlan, SweepError, SweepPlan,
+};
 use wmslice::naive::naive_slice;
 use wmslice::output::atomic::AtomicFile;
 use wmslice::output::json::{level_text, to_json, Exactness, JsonWriter, MeshHeader};
@@ -55,14 +56,6 @@ fn parse_uniform(a: &SliceArgs) -> Result<Option<LayerPlan>, Failure> {
             last: exact("--last", &a.last)?,
         }),
     })
-}
-
-/// The exact height range of the mesh, in true units.
-fn z_range(input: &Input, unit: &Rat) -> (Rat, Rat) {
-    let zs = input.mesh.positions.iter().map(|p| p[2]);
-    let lo = zs.clone().fold(f64::INFINITY, f64::min);
-    let hi = zs.fold(f64::NEG_INFINITY, f64::max);
-    (rat_from_f64(lo) * unit, rat_from_f64(hi) * unit)
 }
 
 /// Where streamed output goes.
@@ -183,7 +176,7 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
         .unit
         .clone()
         .unwrap_or_else(|| Rat::from_integer(1.into()));
-    let (lo, hi) = z_range(&input, &unit);
+    let (lo, hi) = height_range(&input.mesh, &unit);
     let levels =
         plan_levels(uniform.as_ref(), &explicit, (&lo, &hi)).map_err(|e| usage(e.to_string()))?;
     if a.naive {

@@ -7,6 +7,7 @@
 
 pub mod flip;
 pub mod io;
+pub mod prepare;
 pub mod snap;
 pub mod topology;
 pub mod validate;

@@ -370,6 +370,17 @@ impl<W: Write> JsonWriter<W> {
         Ok(())
     }
 
+    /// Writes one level's text given as bytes: [`LevelText::to_bytes`] of a
+    /// level made with this writer's exactness (e.g. in another process).
+    pub fn level_bytes(&mut self, text: &[u8]) -> std::io::Result<()> {
+        if self.count > 0 {
+            self.out.write_all(b",\n")?;
+        }
+        self.out.write_all(text)?;
+        self.count += 1;
+        Ok(())
+    }
+
     /// Closes the document and returns the writer.
     pub fn finish(mut self) -> std::io::Result<W> {
         self.out.write_all(b"\n]}\n")?;
