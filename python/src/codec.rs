@@ -17,7 +17,7 @@ use wmslice::nest::Role;
 use wmslice::output::json::MeshHeader;
 use wmslice::segment::CutPoint;
 
-const TAG: &[u8] = b"wmslice-level-v1";
+const TAG: &[u8] = b"wmslice-level-v2";
 
 struct W(Vec<u8>);
 
@@ -36,9 +36,6 @@ impl W {
     }
     fn i128(&mut self, v: i128) {
         self.0.extend_from_slice(&v.to_le_bytes());
-    }
-    fn f64(&mut self, v: f64) {
-        self.u64(v.to_bits());
     }
     fn bytes(&mut self, b: &[u8]) {
         self.len(b.len());
@@ -96,7 +93,6 @@ impl W {
             Sign::Zero => 1,
             Sign::Positive => 2,
         });
-        self.f64(l.area_approx);
         self.u8(match l.role {
             Role::Outer => 0,
             Role::Hole => 1,
@@ -232,9 +228,6 @@ impl<'a> R<'a> {
             self.take(16)?.try_into().map_err(|_| "i128")?,
         ))
     }
-    fn f64(&mut self) -> Res<f64> {
-        Ok(f64::from_bits(self.u64()?))
-    }
     fn bool(&mut self) -> Res<bool> {
         match self.u8()? {
             0 => Ok(false),
@@ -298,7 +291,6 @@ impl<'a> R<'a> {
             2 => Sign::Positive,
             _ => return Err("sign".into()),
         };
-        let area_approx = self.f64()?;
         let role = match self.u8()? {
             0 => Role::Outer,
             1 => Role::Hole,
@@ -319,7 +311,6 @@ impl<'a> R<'a> {
             cuts,
             points,
             orientation,
-            area_approx,
             role,
             parent,
             collapsed,

@@ -51,13 +51,14 @@ pub struct Rounded {
 }
 
 /// A loop's area as the JSON writes it: with `exact`, the nearest double of
-/// the exact area; else the certified rounding the slicer made. An area
-/// beyond the doubles is `f64::MAX` of its (exact) sign.
-pub fn loop_area(l: &Loop, exact: bool) -> f64 {
+/// the exact area; else the certified rounding from its rounded points
+/// (`rounded`: [`Loop::rounded_area`]). An area beyond the doubles is
+/// `f64::MAX` of its (exact) sign.
+pub fn loop_area(l: &Loop, exact: bool, rounded: &[[f64; 2]]) -> f64 {
     let a = if exact {
         rat_to_f64(&l.area())
     } else {
-        l.area_approx
+        l.rounded_area(rounded)
     };
     if a.is_finite() {
         a
@@ -73,20 +74,17 @@ pub fn round_family(loops: &[Loop], exact: bool) -> Rounded {
     let n: usize = loops.iter().map(|l| l.points.len()).sum();
     let mut xy = Vec::with_capacity(2 * n);
     let mut starts = Vec::with_capacity(loops.len() + 1);
+    let mut areas = Vec::with_capacity(loops.len());
+    let mut points = Vec::new();
     starts.push(0);
     for l in loops {
-        for p in &l.points {
-            let [x, y] = p.to_f64();
-            xy.push(x);
-            xy.push(y);
-        }
+        points.clear();
+        points.extend(l.points.iter().map(|p| p.to_f64()));
+        xy.extend(points.iter().flatten());
         starts.push((xy.len() / 2) as i64);
+        areas.push(loop_area(l, exact, &points));
     }
-    Rounded {
-        xy,
-        starts,
-        areas: loops.iter().map(|l| loop_area(l, exact)).collect(),
-    }
+    Rounded { xy, starts, areas }
 }
 
 /// Every family of a level, rounded.
