@@ -1,14 +1,15 @@
 //! Measures nesting where it is hardest: `k` square frames (each a closed
 //! prism around a square hole, so two loops at mid-height) nested one
 //! inside the next, `2k` loops `2k` deep, against the same frames side by
-//! side (`2k` loops, depth at most 1). Times slicing one level of each mesh
-//! (best of 5) and the nesting alone.
+//! side (`2k` loops, depth at most 1). Times slicing one level of each mesh,
+//! the two alternating, and prints the medians and their ratio.
 //!
 //! `cargo run --release --example nest_scale -- 5000` (5000 frames, 10 000
 //! loops; the default).
 
 use std::time::{Duration, Instant};
 use wmslice::exact::parse_rational;
+use wmslice::exact::rational::Rat;
 use wmslice::ids::VertexId;
 use wmslice::levelset::Loop;
 use wmslice::{Mesh, Slicer};
@@ -42,22 +43,9 @@ fn frame(m: &mut Mesh, cx: f64, cy: f64, inner: f64, outer: f64) {
     }
 }
 
-fn best_of<T>(runs: usize, mut f: impl FnMut() -> T) -> (Duration, T) {
-    let mut best = Duration::MAX;
-    let mut out = None;
-    for _ in 0..runs {
-        let t = Instant::now();
-        let r = f();
-        best = best.min(t.elapsed());
-        out = Some(r);
-    }
-    (best, out.expect("at least one run"))
-}
-
-fn measure(name: &str, mesh: &Mesh) -> Duration {
-    let slicer = Slicer::new(mesh).expect("frames are valid");
-    let mid = parse_rational("1/2").expect("a level");
-    let (t, ls) = best_of(5, || slicer.slice_at(&mid).expect("slices"));
+/// Slices one level of `mesh` and reports its loops and deepest nesting.
+fn describe(name: &str, mesh: &Mesh, slicer: &Slicer, mid: &Rat) {
+    let ls = slicer.slice_at(mid).expect("slices");
     let depth = |l: &Loop| {
         let mut d = 0;
         let mut p = l.parent;
@@ -69,13 +57,19 @@ fn measure(name: &str, mesh: &Mesh) -> Duration {
     };
     let deepest = ls.contours.iter().map(depth).max().unwrap_or(0);
     println!(
-        "{name:>12}: {} faces, {} loops, deepest nesting {deepest}: slicing one level {:.1} ms",
+        "{name:>12}: {} faces, {} loops, deepest nesting {deepest}",
         mesh.num_faces(),
         ls.contours.len(),
-        t.as_secs_f64() * 1e3
     );
-    t
 }
+
+fn median(mut v: Vec<Duration>) -> Duration {
+    v.sort();
+    v[v.len() / 2]
+}
+
+/// Timed runs of each mesh.
+const RUNS: usize = 21;
 
 fn main() {
     let k: usize = std::env::args()
@@ -93,10 +87,25 @@ fn main() {
         let (x, y) = ((i % side) as f64 * 5.0, (i / side) as f64 * 5.0);
         frame(&mut apart, x, y, 1.0, 2.0);
     }
-    let a = measure("side by side", &apart);
-    let n = measure("nested", &nested);
+    let mid = parse_rational("1/2").expect("a level");
+    let slicers = [&apart, &nested].map(|m| Slicer::new(m).expect("frames are valid"));
+    describe("side by side", &apart, &slicers[0], &mid);
+    describe("nested", &nested, &slicers[1], &mid);
+    // The two alternate, so a change in the machine's load falls on both.
+    let mut times = [Vec::new(), Vec::new()];
+    for _ in 0..RUNS {
+        for (s, t) in slicers.iter().zip(&mut times) {
+            let start = Instant::now();
+            std::hint::black_box(s.slice_at(&mid).expect("slices"));
+            t.push(start.elapsed());
+        }
+    }
+    let [a, n] = times.map(median);
+    let ms = |d: Duration| d.as_secs_f64() * 1e3;
     println!(
-        "nested / side by side: {:.2}x",
+        "slicing one level, median of {RUNS}: side by side {:.1} ms, nested {:.1} ms: {:.2}x",
+        ms(a),
+        ms(n),
         n.as_secs_f64() / a.as_secs_f64()
     );
 }

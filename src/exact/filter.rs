@@ -16,7 +16,7 @@
 
 use super::homogeneous;
 use super::point::LoopPoint;
-use super::predicates::{orient2d_xy, Sign};
+use super::predicates::{orient2d_points, Sign};
 
 /// A closed interval of doubles known to contain an exact value.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -161,8 +161,8 @@ fn approx_pair(x: i128, y: i128, w: i128, e: i32) -> Option<(f64, f64)> {
 /// derived from them, computed once: each approximation is exactly zero
 /// when the coordinate is, else within `2^-50` of it relatively when its
 /// magnitude is at least `2^-960`, else NaN (no information). A point held
-/// as integers over `w = 1` whose integers are doubles (below `2^53`) and
-/// whose scale `2^e` is exact is its approximation exactly (`is_double`):
+/// as integers over a power of two `w` whose integers are doubles (below
+/// `2^53`) and whose scale is exact is its approximation exactly (`is_double`):
 /// its enclosure is that one value, and its predicates are decided on the
 /// doubles (exact predicates, [`super::predicates`]).
 #[derive(Clone, Debug)]
@@ -189,11 +189,12 @@ impl<'a> FilteredPoint<'a> {
     pub fn approximate(p: &'a LoopPoint) -> Self {
         let ints = p.as_integers();
         let from_integers = ints.and_then(|(x, y, w, e)| approx_pair(x, y, w, e));
-        // Integers below 2^53 convert exactly, and approx_pair's scaling
-        // by 2^e is exact in its range: then the doubles are the point.
+        // Integers below 2^53 convert exactly, and approx_pair's scaling by
+        // 1 / w (a power of two) and 2^e is exact in its range: then the
+        // doubles are the point.
         let is_double = from_integers.is_some()
             && ints.is_some_and(|(x, y, w, _)| {
-                w == 1 && x.unsigned_abs() <= 1 << 53 && y.unsigned_abs() <= 1 << 53
+                w.count_ones() == 1 && x.unsigned_abs() <= 1 << 53 && y.unsigned_abs() <= 1 << 53
             });
         let (x, y) = from_integers.unwrap_or_else(|| {
             // The nearest doubles: within 2^-53 relatively when normal.
@@ -231,6 +232,12 @@ impl<'a> FilteredPoint<'a> {
         }
     }
 
+    /// The exact point as two doubles, when it is exactly them.
+    #[inline]
+    pub fn as_double(&self) -> Option<[f64; 2]> {
+        self.is_double.then_some([self.x, self.y])
+    }
+
     /// Doubles enclosing the exact point: `([x_lo, y_lo], [x_hi, y_hi])`.
     pub fn bounds(&self) -> ([f64; 2], [f64; 2]) {
         let (x, y) = (self.ix, self.iy);
@@ -262,17 +269,17 @@ pub fn orient2d_filtered(
     b: &FilteredPoint<'_>,
     c: &FilteredPoint<'_>,
 ) -> Sign {
+    // Points that are their doubles: Shewchuk's adaptive predicate, whose
+    // first stage is a static filter (exact for every finite double).
+    if a.is_double && b.is_double && c.is_double {
+        return orient2d_points([a.x, a.y], [b.x, b.y], [c.x, c.y]);
+    }
     let det =
         b.ix.sub(a.ix)
             .mul(c.iy.sub(a.iy))
             .sub(b.iy.sub(a.iy).mul(c.ix.sub(a.ix)));
-    det.sign().unwrap_or_else(|| {
-        if a.is_double && b.is_double && c.is_double {
-            orient2d_xy([a.x, a.y, 0.0], [b.x, b.y, 0.0], [c.x, c.y, 0.0])
-        } else {
-            homogeneous::orient(a.exact, b.exact, c.exact)
-        }
-    })
+    det.sign()
+        .unwrap_or_else(|| homogeneous::orient(a.exact, b.exact, c.exact))
 }
 
 /// A certified estimate of a polygon's signed area.
@@ -515,7 +522,7 @@ mod tests {
         #[test]
         fn double_points_decide_like_the_rationals(
             xs in proptest::collection::vec(-(1i128 << 53)..=(1i128 << 53), 6),
-            e in -900i32..900, line in 0u8..3
+            e in -900i32..900, line in 0u8..3, ws in proptest::collection::vec(0u32..126, 3)
         ) {
             let mut v = xs.clone();
             if line == 1 {
@@ -528,7 +535,10 @@ mod tests {
             } else if line == 2 {
                 v[3] = v[1]; // a and b share y
             }
-            let held: Vec<LoopPoint> = (0..3).map(|i| LoopPoint::from_integers(v[2 * i], v[2 * i + 1], 1, e).unwrap()).collect();
+            // Over 1, or over powers of two (the line through a and b is
+            // then built over 1, so only `line == 2` mixes them).
+            let w = |i: usize| if line == 1 { 1 } else { 1i128 << ws[i] };
+            let held: Vec<LoopPoint> = (0..3).map(|i| LoopPoint::from_integers(v[2 * i], v[2 * i + 1], w(i), e).unwrap()).collect();
             let f: Vec<FilteredPoint<'_>> = held.iter().map(FilteredPoint::new).collect();
             let exact: Vec<Point2> = held.iter().map(|p| p.exact().into_owned()).collect();
             prop_assert_eq!(orient2d_filtered(&f[0], &f[1], &f[2]), orient2d_rat(&exact[0], &exact[1], &exact[2]));

@@ -30,6 +30,12 @@ pub trait Planar {
     /// The nearest doubles of the point (at `epsilon = 0`).
     fn rounded(&self) -> [f64; 2];
 
+    /// The point's coordinates when it is exactly these two doubles (then
+    /// the double predicates of [`super::predicates`] decide exactly).
+    fn as_double(&self) -> Option<[f64; 2]> {
+        None
+    }
+
     /// The sweep order: by y, then by x (exact).
     fn cmp_yx(&self, other: &Self) -> Ordering {
         self.cmp_y(other).then_with(|| self.cmp_x(other))
@@ -59,5 +65,10 @@ impl Planar for FilteredPoint<'_> {
 
     fn rounded(&self) -> [f64; 2] {
         self.exact().to_f64()
+    }
+
+    #[inline]
+    fn as_double(&self) -> Option<[f64; 2]> {
+        FilteredPoint::as_double(self)
     }
 }

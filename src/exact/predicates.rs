@@ -209,6 +209,34 @@ fn robust_sign(det: f64) -> Option<Sign> {
     det.is_finite().then(|| Sign::of_cmp(det.partial_cmp(&0.0)))
 }
 
+/// [`orient2d_xy`] on points given as `[x, y]`, with Shewchuk's static
+/// filter inline: `det = (a - c) x (b - c)` in doubles is within
+/// `(3 + 16 u) u (|l| + |r|)` of the exact value (`l`, `r` its two products;
+/// Shewchuk 1997, `ccwerrboundA`) when nothing underflows or overflows; so
+/// when `|det|` exceeds that bound, the bound is at least `2^-900` (no
+/// product underflowed below it) and everything is finite, `det`'s sign is
+/// exact. Otherwise [`orient2d_xy`] decides. For hot loops over points that
+/// are doubles.
+#[inline]
+pub fn orient2d_points(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
+    const U: f64 = f64::EPSILON / 2.0;
+    const BOUND: f64 = (3.0 + 16.0 * U) * U;
+    let tiny = f64::from_bits((1023 - 900) << 52);
+    let l = (a[0] - c[0]) * (b[1] - c[1]);
+    let r = (a[1] - c[1]) * (b[0] - c[0]);
+    let det = l - r;
+    let bound = BOUND * (l.abs() + r.abs());
+    if bound >= tiny && bound.is_finite() {
+        if det > bound {
+            return Sign::Positive;
+        }
+        if det < -bound {
+            return Sign::Negative;
+        }
+    }
+    orient2d_xy([a[0], a[1], 0.0], [b[0], b[1], 0.0], [c[0], c[1], 0.0])
+}
+
 /// Exact sign of the orientation of `(a, b, c)` projected on the `(x, y)`
 /// plane: positive when counter-clockwise seen from `+z`. Exact for every
 /// finite double.
@@ -450,6 +478,10 @@ mod tests {
                 prop_assert_eq!(orient2d_axes(a, b, c, i, j), reference2(a, b, c, i, j));
             }
             prop_assert_eq!(orient3d(a, b, c, d), reference3(a, b, c, d));
+            prop_assert_eq!(
+                orient2d_points([a[0], a[1]], [b[0], b[1]], [c[0], c[1]]),
+                reference2(a, b, c, 0, 1)
+            );
             let flat = (0..3).all(|k| reference2(a, b, c, k, (k + 1) % 3) == Sign::Zero);
             prop_assert_eq!(is_degenerate_triangle(a, b, c), flat);
         }
@@ -471,6 +503,8 @@ mod tests {
             on[axis] += off;
             let pc = at(on);
             prop_assert_eq!(orient2d_xy(pa, pb, pc), reference2(pa, pb, pc, 0, 1));
+            let xy = |p: [f64; 3]| [p[0], p[1]];
+            prop_assert_eq!(orient2d_points(xy(pa), xy(pb), xy(pc)), reference2(pa, pb, pc, 0, 1));
             prop_assert_eq!(is_degenerate_triangle(pa, pb, pc), off == 0 || u == [0; 3]);
             let mut w = plus(plus(a, u, s), v, t);
             w[axis] += off;

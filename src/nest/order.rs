@@ -56,7 +56,7 @@ impl<T: Copy> Order<T> {
     /// Inserts `value` where `cmp(existing)` says: `Less` when `value`
     /// goes before `existing`, `Greater` after (`Equal` is read as
     /// after). Returns its handle.
-    pub fn insert(&mut self, value: T, mut cmp: impl FnMut(T) -> std::cmp::Ordering) -> Handle {
+    pub fn insert(&mut self, value: T, mut cmp: impl FnMut(&T) -> std::cmp::Ordering) -> Handle {
         let h = match self.free.pop() {
             Some(h) => h,
             None => {
@@ -83,7 +83,7 @@ impl<T: Copy> Order<T> {
         let mut go_left = false;
         while at != NIL {
             parent = at;
-            go_left = cmp(self.nodes[at as usize].value) == std::cmp::Ordering::Less;
+            go_left = cmp(&self.nodes[at as usize].value) == std::cmp::Ordering::Less;
             at = if go_left {
                 self.nodes[at as usize].left
             } else {
@@ -235,7 +235,7 @@ mod tests {
             let mut model: Vec<(i32, Handle)> = Vec::new();
             for (op, key) in ops {
                 if op < 2 || model.is_empty() {
-                    let h = order.insert(key, |e| if key < e { std::cmp::Ordering::Less } else { std::cmp::Ordering::Greater });
+                    let h = order.insert(key, |&e| if key < e { std::cmp::Ordering::Less } else { std::cmp::Ordering::Greater });
                     let at = model.partition_point(|&(k, _)| k <= key);
                     model.insert(at, (key, h));
                 } else {

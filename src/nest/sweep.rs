@@ -20,6 +20,7 @@
 
 use super::order::{Handle, Order};
 use crate::exact::planar::Planar;
+use crate::exact::predicates::orient2d_points;
 use crate::exact::Sign;
 use std::cmp::Ordering;
 
@@ -31,7 +32,13 @@ struct Seg {
     l: u32,
     lower: u32,
     upper: u32,
+    /// The event of the lower end.
+    start: u32,
     down: bool,
+    /// Both ends as doubles, `[x0, y0, x1, y1]` (lower end first), when the
+    /// points are exactly their doubles: comparisons then read the segment
+    /// alone (the sweep is bound by memory, not arithmetic).
+    doubles: Option<[f64; 4]>,
 }
 
 /// What the segment just left of a loop's lowest point says.
@@ -72,29 +79,18 @@ fn bucket<T: Copy>(n: usize, items: &[T], key: impl Fn(&T) -> usize) -> (Vec<usi
 pub fn parents<P: Planar, L: AsRef<[P]>>(loops: &[L], orientation: &[Sign]) -> Vec<Option<usize>> {
     // Points by global index: loop `l`'s point `k` is `first[l] + k`.
     let mut first = Vec::with_capacity(loops.len() + 1);
-    let mut owner: Vec<u32> = Vec::new();
     let mut points: Vec<&P> = Vec::new();
-    for (l, poly) in loops.iter().enumerate() {
+    for poly in loops {
         first.push(points.len());
         for p in poly.as_ref() {
             points.push(p);
-            owner.push(l as u32);
         }
     }
     first.push(points.len());
     // Every point, in sweep order; equal points (loops touching) form one
     // event.
-    let mut order: Vec<u32> = (0..points.len() as u32).collect();
-    order.sort_by(|&a, &b| points[a as usize].cmp_yx(points[b as usize]));
-    let mut event = vec![0u32; points.len()];
-    let mut events = 0u32;
-    for (i, &g) in order.iter().enumerate() {
-        if i > 0 && points[order[i - 1] as usize].cmp_yx(points[g as usize]) != Ordering::Equal {
-            events += 1;
-        }
-        event[g as usize] = events;
-    }
-    let events = events as usize + 1;
+    let event = events_in_sweep_order(&points);
+    let events = event.iter().max().map_or(0, |&e| e as usize + 1);
 
     // Segments (zero-length ones left out), and each loop's lowest event.
     let mut segs: Vec<Seg> = Vec::with_capacity(points.len());
@@ -114,28 +110,47 @@ pub fn parents<P: Planar, L: AsRef<[P]>>(loops: &[L], orientation: &[Sign]) -> V
             }
             let down = ep > eq;
             let (lower, upper) = if down { (q, p) } else { (p, q) };
+            let doubles = points[lower as usize]
+                .as_double()
+                .zip(points[upper as usize].as_double())
+                .map(|([x0, y0], [x1, y1])| [x0, y0, x1, y1]);
             segs.push(Seg {
                 l: l as u32,
                 lower,
                 upper,
+                start: ep.min(eq),
                 down,
+                doubles,
             });
         }
     }
-    let ev = |g: u32| event[g as usize] as usize;
+    // Segments in the order they start (those starting at event `e` are
+    // `segs[start_at[e]..start_at[e + 1]]`, read in turn), and by end.
+    let (start_at, segs) = bucket(events, &segs, |s| s.start as usize);
     let ids: Vec<u32> = (0..segs.len() as u32).collect();
-    let (start_at, starts) = bucket(events, &ids, |&i| ev(segs[i as usize].lower));
-    let (end_at, ends) = bucket(events, &ids, |&i| ev(segs[i as usize].upper));
+    let (end_at, ends) = bucket(events, &ids, |&i| {
+        event[segs[i as usize].upper as usize] as usize
+    });
     let (low_at, lows) = bucket(events, &lowest, |&(e, _)| e as usize);
 
     // Where segment `s`, starting at the current event point, goes
     // relative to segment `t` already crossing the line.
     let cmp = |s: &Seg, t: &Seg| -> Ordering {
-        let (c, d) = (points[t.lower as usize], points[t.upper as usize]);
-        let side = if event[t.lower as usize] == event[s.lower as usize] {
-            P::orient(c, d, points[s.upper as usize])
-        } else {
-            P::orient(c, d, points[s.lower as usize])
+        let shared = t.start == s.start;
+        let side = match (s.doubles, t.doubles) {
+            (Some(sd), Some(td)) => {
+                let r = if shared {
+                    [sd[2], sd[3]]
+                } else {
+                    [sd[0], sd[1]]
+                };
+                orient2d_points([td[0], td[1]], [td[2], td[3]], r)
+            }
+            _ => {
+                let (c, d) = (points[t.lower as usize], points[t.upper as usize]);
+                let r = if shared { s.upper } else { s.lower };
+                P::orient(c, d, points[r as usize])
+            }
         };
         match side {
             Sign::Positive => Ordering::Less,
@@ -145,35 +160,29 @@ pub fn parents<P: Planar, L: AsRef<[P]>>(loops: &[L], orientation: &[Sign]) -> V
         }
     };
 
-    let mut line: Order<u32> = Order::new();
+    let mut line: Order<Seg> = Order::new();
     let mut handle: Vec<Handle> = vec![Handle::MAX; segs.len()];
     let mut left = vec![Left::Nothing; loops.len()];
     for e in 0..events {
         for &i in &ends[end_at[e]..end_at[e + 1]] {
             line.remove(handle[i as usize]);
         }
-        let starting = &starts[start_at[e]..start_at[e + 1]];
-        for &i in starting {
-            let s = &segs[i as usize];
-            handle[i as usize] = line.insert(i, |t| cmp(s, &segs[t as usize]));
+        let starting = start_at[e]..start_at[e + 1];
+        for i in starting.clone() {
+            let s = &segs[i];
+            handle[i] = line.insert(*s, |t| cmp(s, t));
         }
         for &(_, l) in &lows[low_at[e]..low_at[e + 1]] {
-            let mine = starting
-                .iter()
-                .copied()
-                .filter(|&i| segs[i as usize].l == l);
+            let mine = starting.clone().filter(|&i| segs[i].l == l);
             let leftmost = mine.reduce(|a, b| {
-                if cmp(&segs[b as usize], &segs[a as usize]) == Ordering::Less {
+                if cmp(&segs[b], &segs[a]) == Ordering::Less {
                     b
                 } else {
                     a
                 }
             });
             let Some(i) = leftmost else { continue };
-            let Some(t) = line
-                .prev(handle[i as usize])
-                .map(|h| segs[line.get(h) as usize])
-            else {
+            let Some(t) = line.prev(handle[i]).map(|h| line.get(h)) else {
                 continue;
             };
             let inside = match orientation[t.l as usize] {
@@ -189,6 +198,44 @@ pub fn parents<P: Planar, L: AsRef<[P]>>(loops: &[L], orientation: &[Sign]) -> V
         }
     }
     resolve(&left)
+}
+
+/// Each point's event: its rank in the sweep order, equal points sharing
+/// one. Points that are all doubles are sorted as doubles (exact: they are
+/// their values); others through the exact comparisons.
+fn events_in_sweep_order<P: Planar>(points: &[&P]) -> Vec<u32> {
+    let mut event = vec![0u32; points.len()];
+    let doubles: Option<Vec<[f64; 2]>> = points.iter().map(|p| p.as_double()).collect();
+    let mut assign = |order: &[u32], same: &dyn Fn(u32, u32) -> bool| {
+        let mut e = 0u32;
+        for (i, &g) in order.iter().enumerate() {
+            if i > 0 && !same(order[i - 1], g) {
+                e += 1;
+            }
+            event[g as usize] = e;
+        }
+    };
+    match doubles {
+        Some(d) => {
+            let mut keyed: Vec<(f64, f64, u32)> = d
+                .iter()
+                .enumerate()
+                .map(|(g, &[x, y])| (y, x, g as u32))
+                .collect();
+            // Finite doubles: partial_cmp is total here.
+            keyed.sort_unstable_by(|a, b| a.partial_cmp(b).unwrap_or(Ordering::Equal));
+            let order: Vec<u32> = keyed.iter().map(|k| k.2).collect();
+            assign(&order, &|a, b| d[a as usize] == d[b as usize]);
+        }
+        None => {
+            let mut order: Vec<u32> = (0..points.len() as u32).collect();
+            order.sort_by(|&a, &b| points[a as usize].cmp_yx(points[b as usize]));
+            assign(&order, &|a, b| {
+                points[a as usize].cmp_yx(points[b as usize]) == Ordering::Equal
+            });
+        }
+    }
+    event
 }
 
 /// Parents from the left neighbours: `Beside(k)` takes `k`'s parent. Each
