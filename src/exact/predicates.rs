@@ -211,16 +211,22 @@ fn robust_sign(det: f64) -> Option<Sign> {
 
 /// [`orient2d_xy`] on points given as `[x, y]`, with Shewchuk's static
 /// filter inline: `det = (a - c) x (b - c)` in doubles is within
-/// `(3 + 16 u) u (|l| + |r|)` of the exact value (`l`, `r` its two products;
-/// Shewchuk 1997, `ccwerrboundA`) when nothing underflows or overflows; so
-/// when `|det|` exceeds that bound, the bound is at least `2^-900` (no
-/// product underflowed below it) and everything is finite, `det`'s sign is
-/// exact. Otherwise [`orient2d_xy`] decides. For hot loops over points that
-/// are doubles.
+/// `(3 + 16 u) u (|l| + |r|)` of the exact value (`l`, `r` its two products
+/// as computed; Shewchuk 1997, `ccwerrboundA`, whose proof covers the
+/// rounding of the bound's own evaluation) when nothing underflows or
+/// overflows. A difference of doubles that lands in the subnormals is
+/// exact; a product that underflows is off by at most `2^-1075` more. So
+/// the bound used is `((3 + 16 u) u + 2^-100) (|l| + |r|)`: when it is at
+/// least `2^-900`, `|l| + |r| >= 2^-849`, and the extra `2^-100 (|l| + |r|)
+/// >= 2^-949` covers both products' underflow errors many times over. When
+/// that bound is finite and at least `2^-900` and `|det|` exceeds it,
+/// `det`'s sign is exact; otherwise [`orient2d_xy`] decides. For hot loops
+/// over points that are doubles.
 #[inline]
 pub fn orient2d_points(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
     const U: f64 = f64::EPSILON / 2.0;
-    const BOUND: f64 = (3.0 + 16.0 * U) * U;
+    // 2^-100 is about 16 ulps of (3 + 16 u) u, so the sum keeps it.
+    const BOUND: f64 = (3.0 + 16.0 * U) * U + 1.0 / (1u128 << 100) as f64;
     let tiny = f64::from_bits((1023 - 900) << 52);
     let l = (a[0] - c[0]) * (b[1] - c[1]);
     let r = (a[1] - c[1]) * (b[0] - c[0]);
