@@ -217,8 +217,9 @@ fn robust_sign(det: f64) -> Option<Sign> {
 /// overflows. A difference of doubles that lands in the subnormals is
 /// exact; a product that underflows is off by at most `2^-1075` more. So
 /// the bound used is `((3 + 16 u) u + 2^-100) (|l| + |r|)`: when it is at
-/// least `2^-900`, `|l| + |r| >= 2^-849`, and the extra `2^-100 (|l| + |r|)
-/// >= 2^-949` covers both products' underflow errors many times over. When
+/// least `2^-900`, `|l| + |r| >= 2^-849`, and the extra
+/// `2^-100 (|l| + |r|) >= 2^-949` covers both products' underflow errors
+/// many times over. When
 /// that bound is finite and at least `2^-900` and `|det|` exceeds it,
 /// `det`'s sign is exact; otherwise [`orient2d_xy`] decides. For hot loops
 /// over points that are doubles.
