@@ -275,6 +275,30 @@ fn check_exits_3_and_names_the_defect() {
 }
 
 #[test]
+fn check_after_snapping_reports_measures_in_the_files_units() {
+    // The unit tetrahedron scaled by 0.3 (stored as the double nearest
+    // 0.3), snapped to 0.1: the corners become exactly 3/10, so the volume
+    // is (3/10)^3 / 6 = 9/2000 and the box ends at the double nearest 0.3,
+    // not at 3 grid steps.
+    let mut m = tetra();
+    for p in &mut m.positions {
+        *p = p.map(|x| x * 0.3);
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let path = write_off(dir.path(), "small.off", &m);
+    let out = Command::new(env!("CARGO_BIN_EXE_wmslice"))
+        .args(["check", "--json", "--snap", "0.1"])
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["stats"]["volume"], "9/2000");
+    assert_eq!(json["stats"]["bounding_box"][1][0].as_f64(), Some(0.3));
+    assert_eq!(json["stats"]["bounding_box"][0][2].as_f64(), Some(0.0));
+}
+
+#[test]
 fn snapping_that_flattens_a_sliver_is_caught_and_named() {
     // A flat tetrahedron, apex 0.0001 above its base: valid as read, but
     // snapping to 0.001 puts the apex in the base plane, inside the base

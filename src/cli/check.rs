@@ -12,6 +12,12 @@ use wmslice::mesh::validate::validate;
 pub fn run(a: CheckArgs) -> Result<(), Failure> {
     let input = load_input(&a.mesh, a.snap.as_deref())?;
     let report = validate(&input.mesh);
+    // A snapped mesh is stored in grid steps; report its measures in the
+    // file's units.
+    let report = match &input.unit {
+        Some(unit) => report.in_units(unit),
+        None => report,
+    };
     if a.json {
         let doc = serde_json::json!({
             "mesh": a.mesh,

@@ -197,7 +197,8 @@ pub struct Stats {
     pub euler_characteristic: i64,
     /// `(2 C - chi) / 2` for a closed orientable surface, else `None`.
     pub genus: Option<i64>,
-    /// Exact coordinates as stored: `[min, max]` per axis.
+    /// Exact coordinates as stored: `[min, max]` per axis (the nearest
+    /// doubles in the mesh's units after [`Report::in_units`]).
     pub bounding_box: Option<[[f64; 3]; 2]>,
     /// Exact signed volume, as `"p/q"`.
     pub volume: String,
@@ -226,6 +227,24 @@ impl Report {
                 .defects
                 .iter()
                 .all(|d| d.severity() == Severity::Warning)
+    }
+
+    /// The measures of a mesh stored in grid units (snapped: true
+    /// coordinate = stored value * `unit`) in the mesh's own units: the
+    /// volume exactly (times `unit^3`), the bounding box as the nearest
+    /// doubles of the exact corners.
+    pub fn in_units(mut self, unit: &Rat) -> Self {
+        let scale = |x: f64| {
+            Rat::from_float(x).map_or(x, |r| crate::exact::rational::rat_to_f64(&(r * unit)))
+        };
+        if let Some(bb) = &mut self.stats.bounding_box {
+            for corner in bb.iter_mut() {
+                *corner = corner.map(scale);
+            }
+        }
+        self.volume = &self.volume * unit * unit * unit;
+        self.stats.volume = rat_to_string(&self.volume);
+        self
     }
 
     /// The blocking defects.
