@@ -12,6 +12,7 @@ use wmslice::classify::{ExtremumKind, Facing, RidgeKind};
 use wmslice::datasets::{self, expected::expected};
 use wmslice::exact::rational::Rat;
 use wmslice::exact::{Point2, Sign};
+use wmslice::levelset::check::check_level_invariants;
 use wmslice::levelset::{LevelSet, Loop};
 use wmslice::mesh::validate::validate;
 use wmslice::nest::Role;
@@ -230,8 +231,9 @@ fn check(name: &str, k: i32) -> Vec<String> {
         match scaled.slice_at(&(&c * &s)) {
             Err(err) => fails.push(format!("{name} 2^{k} at {c}: {err}")),
             Ok(got) => {
-                if let Err(why) =
-                    same_level_set(&got, &want, &s).and_then(|()| matches_expected(&got, e, &s))
+                if let Err(why) = same_level_set(&got, &want, &s)
+                    .and_then(|()| matches_expected(&got, e, &s))
+                    .and_then(|()| check_level_invariants(&big, scaled.topology(), &got))
                 {
                     fails.push(format!("{name} 2^{k} at {c}: {why}"));
                 }

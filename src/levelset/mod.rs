@@ -28,7 +28,7 @@ use crate::mesh::validate::{accept, Report};
 use crate::mesh::Mesh;
 use crate::nest::{nest, Family, Role};
 use crate::segment::{edge_segments, face_segment, Carrier, CutPoint, Segment, Via};
-use num_traits::One;
+use num_traits::{One, Signed};
 use rustc_hash::FxHashMap as HashMap;
 use std::sync::Arc;
 
@@ -70,9 +70,21 @@ impl Loop {
     /// certified bound of [`rounded_area`] (about `n u d (4m + 3d)` for
     /// `n` points, loop size `d`, distance `m` from the origin) and of the
     /// exact sign; where that bound cannot show the sign, the nearest
-    /// double of the exact area. A function of the exact loop alone.
+    /// double of the exact area, and `f64::MAX` of its sign when it lies
+    /// beyond the doubles (JSON has no infinity). A function of the exact
+    /// loop alone.
     pub fn rounded_area(&self, rounded: &[[f64; 2]]) -> f64 {
-        rounded_area(rounded).unwrap_or_else(|| rat_to_f64(&self.area()))
+        rounded_area(rounded).unwrap_or_else(|| {
+            let a = self.area();
+            let r = rat_to_f64(&a);
+            if r.is_finite() {
+                r
+            } else if a.is_negative() {
+                f64::MIN
+            } else {
+                f64::MAX
+            }
+        })
     }
 }
 
