@@ -7,7 +7,7 @@
 //! balanced parentheses (incoming opens, outgoing closes the latest open
 //! one), and each closed pair joins. No coordinate is compared.
 
-use crate::ids::{EdgeId, VertexId};
+use crate::ids::VertexId;
 use crate::mesh::topology::Topology;
 use crate::segment::{CutPoint, Segment, Via};
 use rustc_hash::FxHashMap as HashMap;
@@ -44,47 +44,24 @@ pub fn chain_loops(topo: &Topology, segments: &[Segment]) -> Result<Vec<Vec<usiz
         outgoing: segments.iter().filter(|s| s.from == at).count(),
     };
     let mut next = vec![usize::MAX; segments.len()];
-    // An edge crossing has one segment in and one out: looked up by edge.
-    let mut leaving: HashMap<EdgeId, u32> =
-        HashMap::with_capacity_and_hasher(segments.len(), Default::default());
     let mut ins: Vec<(CutPoint, usize)> = Vec::new();
     let mut outs: Vec<(CutPoint, usize)> = Vec::new();
-    for (i, s) in segments.iter().enumerate() {
-        match s.from {
-            CutPoint::OnEdge(e) => {
-                // At most one segment per face: indices stay below TAKEN.
-                if leaving.insert(e, i as u32).is_some() {
-                    return Err(unbalanced(s.from));
+    // An edge crossing has one segment in and one out: looked up by edge
+    // in this thread's table (every slot `FREE` between calls).
+    LEAVING
+        .with_borrow_mut(|leaving| {
+            if leaving.len() < topo.num_edges() {
+                leaving.resize(topo.num_edges(), FREE);
+            }
+            let linked = link_edges(leaving, segments, &mut next, &mut ins, &mut outs);
+            for s in segments {
+                if let CutPoint::OnEdge(e) = s.from {
+                    leaving[e.idx()] = FREE;
                 }
             }
-            CutPoint::AtVertex(_) => outs.push((s.from, i)),
-        }
-        if let CutPoint::AtVertex(_) = s.to {
-            ins.push((s.to, i));
-        }
-    }
-    // Each departure is taken once (marked `TAKEN`); a second arrival,
-    // or a departure never arrived at, is unbalanced.
-    const TAKEN: u32 = u32::MAX;
-    for (i, s) in segments.iter().enumerate() {
-        if let CutPoint::OnEdge(e) = s.to {
-            match leaving.get_mut(&e) {
-                Some(j) if *j != TAKEN => {
-                    next[i] = *j as usize;
-                    *j = TAKEN;
-                }
-                _ => return Err(unbalanced(s.to)),
-            }
-        }
-    }
-    if let Some(e) = leaving
-        .iter()
-        .filter(|(_, &j)| j != TAKEN)
-        .map(|(&e, _)| e)
-        .min()
-    {
-        return Err(unbalanced(CutPoint::OnEdge(e)));
-    }
+            linked
+        })
+        .map_err(unbalanced)?;
     // At vertices, arrivals and departures sorted by vertex (then segment
     // index) are two runs per vertex, read side by side. Only vertices are
     // in these lists: one integer key sorts them as the pairs would.
@@ -133,6 +110,71 @@ pub fn chain_loops(topo: &Topology, segments: &[Segment]) -> Result<Vec<Vec<usiz
         loops.push(lp);
     }
     Ok(loops)
+}
+
+/// A slot of the edge table with no segment leaving its edge.
+const FREE: u32 = u32::MAX;
+/// A slot whose leaving segment has been arrived at.
+const TAKEN: u32 = u32::MAX - 1;
+
+std::thread_local! {
+    /// Per edge, the segment leaving its crossing (or `FREE`, `TAKEN`):
+    /// kept by each thread across calls, so no level allocates or hashes
+    /// for it.
+    static LEAVING: std::cell::RefCell<Vec<u32>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// Links each segment arriving at an edge crossing to the one leaving it
+/// (`next`), and lists the arrivals at and departures from vertices. On
+/// an edge crossing without exactly one segment in and one out, that cut
+/// point (the first found, or the smallest edge left without an arrival).
+fn link_edges(
+    leaving: &mut [u32],
+    segments: &[Segment],
+    next: &mut [usize],
+    ins: &mut Vec<(CutPoint, usize)>,
+    outs: &mut Vec<(CutPoint, usize)>,
+) -> Result<(), CutPoint> {
+    for (i, s) in segments.iter().enumerate() {
+        match s.from {
+            CutPoint::OnEdge(e) => {
+                // At most one segment per face: indices stay below TAKEN.
+                let slot = &mut leaving[e.idx()];
+                if *slot != FREE {
+                    return Err(s.from);
+                }
+                *slot = i as u32;
+            }
+            CutPoint::AtVertex(_) => outs.push((s.from, i)),
+        }
+        if let CutPoint::AtVertex(_) = s.to {
+            ins.push((s.to, i));
+        }
+    }
+    // Each departure is taken once (marked `TAKEN`); a second arrival,
+    // or a departure never arrived at, is unbalanced.
+    for (i, s) in segments.iter().enumerate() {
+        if let CutPoint::OnEdge(e) = s.to {
+            match leaving.get_mut(e.idx()) {
+                Some(j) if *j != TAKEN && *j != FREE => {
+                    next[i] = *j as usize;
+                    *j = TAKEN;
+                }
+                _ => return Err(s.to),
+            }
+        }
+    }
+    let left = segments
+        .iter()
+        .filter_map(|s| match s.from {
+            CutPoint::OnEdge(e) if leaving[e.idx()] != TAKEN => Some(e),
+            _ => None,
+        })
+        .min();
+    match left {
+        Some(e) => Err(CutPoint::OnEdge(e)),
+        None => Ok(()),
+    }
 }
 
 /// Pairs the branches at vertex `v` by the fan-order parentheses rule.

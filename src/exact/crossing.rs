@@ -18,9 +18,9 @@
 //! overflows). The derivation of `B` is on `coordinate` (below).
 
 use super::grid::{GridLevel, MeshGrid};
-use super::level::Level;
+use super::level::{shl, Level};
 use super::point::LoopPoint;
-use super::rational::{rat_from_f64, rat_to_f64};
+use super::rational::{decompose, rat_from_f64, rat_to_f64, ratio_to_f64};
 use crate::ids::VertexId;
 use std::cell::Cell;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -85,7 +85,10 @@ impl LevelApprox {
         if !in_range(hi, IN_LO, IN_HI) {
             return None;
         }
-        let lo = rat_to_f64(&(c - rat_from_f64(hi)));
+        let lo = level
+            .wide()
+            .and_then(|(p, q)| residual(p, q, hi))
+            .unwrap_or_else(|| rat_to_f64(&(c - rat_from_f64(hi))));
         // |lo| <= u |hi|; below 2^-1000 it could be subnormal (then the
         // relative bound fails): refused.
         if !in_range(lo, f64::from_bits((1023 - 1000) << 52), IN_HI) {
@@ -97,6 +100,23 @@ impl LevelApprox {
             err: U * lo.abs(),
         })
     }
+}
+
+/// The nearest double of `p / q - hi` (`q > 0`), in `i128` when the
+/// products fit: `hi = m 2^e`, so `p / q - hi` is `(p - m q 2^e) / q`
+/// for `e >= 0` and `(p 2^-e - m q) 2^e / q` otherwise, rounded once by
+/// [`ratio_to_f64`] (equal to `rat_to_f64` of the same value).
+fn residual(p: i128, q: i128, hi: f64) -> Option<f64> {
+    let q_u = u128::try_from(q).ok()?;
+    let Some((m, e)) = decompose(hi) else {
+        return Some(ratio_to_f64(p, q_u, 0));
+    };
+    let mq = i128::from(m).checked_mul(q)?;
+    Some(if e >= 0 {
+        ratio_to_f64(p.checked_sub(shl(mq, e as u32)?)?, q_u, 0)
+    } else {
+        ratio_to_f64(shl(p, e.unsigned_abs())?.checked_sub(mq)?, q_u, e)
+    })
 }
 
 /// The nearest double of one coordinate of the crossing,
@@ -147,7 +167,7 @@ impl LevelApprox {
 /// neighbours, halved exactly); each test is on a rounded sum compared
 /// with a double, which rounding cannot flip (rounding is monotone). Ties
 /// are never decided here.
-#[inline]
+#[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn coordinate(
     ax: f64,
@@ -195,8 +215,32 @@ fn coordinate(
 /// The nearest doubles of the crossing of edge `(a, b)` with the level,
 /// when the certified bound decides both (see `coordinate`); `None`
 /// out of range or when undecided. The caller guarantees `az != bz`.
+///
+/// On x86-64 CPUs with FMA the arithmetic is compiled for it (chosen at
+/// run time): `f64::mul_add` is the same correctly rounded operation
+/// either way, one instruction instead of a library call, and no other
+/// expression is contracted, so the results are bit for bit the same.
 #[inline]
 pub fn certified_crossing(a: [f64; 3], b: [f64; 3], c: &LevelApprox) -> Option<[f64; 2]> {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("fma") {
+            // SAFETY: the CPU has FMA (checked just above).
+            return unsafe { certified_crossing_fma(a, b, c) };
+        }
+    }
+    certified_crossing_with(a, b, c)
+}
+
+/// [`certified_crossing`] compiled with FMA instructions.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "fma")]
+unsafe fn certified_crossing_fma(a: [f64; 3], b: [f64; 3], c: &LevelApprox) -> Option<[f64; 2]> {
+    certified_crossing_with(a, b, c)
+}
+
+#[inline(always)]
+fn certified_crossing_with(a: [f64; 3], b: [f64; 3], c: &LevelApprox) -> Option<[f64; 2]> {
     let (az, bz) = (a[2], b[2]);
     if ![a[0], a[1], az, b[0], b[1], bz]
         .iter()
@@ -358,6 +402,21 @@ mod tests {
     use crate::exact::rational::Rat;
     use num_traits::Signed;
     use proptest::prelude::*;
+
+    proptest! {
+        /// The integer residual of a level equals the rational one.
+        #[test]
+        fn residual_equals_rational(p in any::<i128>(), pb in 1u32..128, q in 1i128..i128::MAX, qb in 1u32..127) {
+            let (p, q) = (p >> (128 - pb), (q >> (127 - qb)).max(1));
+            let c = Rat::new(p.into(), q.into());
+            let hi = rat_to_f64(&c);
+            prop_assume!(hi.is_finite());
+            let (p, q) = (c.numer().try_into().unwrap(), c.denom().try_into().unwrap());
+            if let Some(r) = residual(p, q, hi) {
+                prop_assert_eq!(r.to_bits(), rat_to_f64(&(&c - rat_from_f64(hi))).to_bits());
+            }
+        }
+    }
 
     /// Doubles across the whole range: any finite bit pattern, subnormals,
     /// `f32` values, small integers and decimals, near-zero noise, and

@@ -5,7 +5,7 @@
 //! comparison of a double with `c` is two float comparisons: there is no
 //! double strictly between `lo` and `hi`.
 
-use super::rational::{rat_from_f64, rat_to_f64, rat_to_string, Rat};
+use super::rational::{decompose, rat_from_f64, rat_to_f64, rat_to_string, Rat};
 use super::Sign;
 use num_traits::ToPrimitive;
 use std::fmt;
@@ -18,12 +18,44 @@ pub struct Level {
     lo: f64,
     hi: f64,
     small: Option<(i128, i128)>,
+    /// `c = p / q` when both fit `i128` (`q > 0`).
+    wide: Option<(i128, i128)>,
+}
+
+/// `x 2^k`, when it fits `i128`.
+#[inline]
+pub(crate) fn shl(x: i128, k: u32) -> Option<i128> {
+    if x == 0 {
+        return Some(0);
+    }
+    if k >= 127 {
+        return None;
+    }
+    let y = x << k;
+    (y >> k == x).then_some(y)
+}
+
+/// `sign(f - p / q)` for a finite double `f` and `q > 0`, decided in
+/// `i128` when the products fit (else `None`).
+fn cmp_double(f: f64, p: i128, q: i128) -> Option<std::cmp::Ordering> {
+    let Some((m, e)) = decompose(f) else {
+        // f is zero: the sign of -p.
+        return Some(0.cmp(&p));
+    };
+    let mq = i128::from(m).checked_mul(q)?;
+    // f = m 2^e; f - p/q has the sign of m q 2^e - p.
+    Some(if e >= 0 {
+        shl(mq, e as u32)?.cmp(&p)
+    } else {
+        mq.cmp(&shl(p, e.unsigned_abs())?)
+    })
 }
 
 impl Level {
     /// Wraps an exact rational level.
     pub fn new(value: Rat) -> Self {
         let f = rat_to_f64(&value);
+        let wide = value.numer().to_i128().zip(value.denom().to_i128());
         let (lo, hi) = if f.is_infinite() {
             if f > 0.0 {
                 (f64::MAX, f64::INFINITY)
@@ -31,23 +63,29 @@ impl Level {
                 (f64::NEG_INFINITY, f64::MIN)
             }
         } else {
-            match rat_from_f64(f).cmp(&value) {
+            let order = wide
+                .and_then(|(p, q)| cmp_double(f, p, q))
+                .unwrap_or_else(|| rat_from_f64(f).cmp(&value));
+            match order {
                 std::cmp::Ordering::Equal => (f, f),
                 std::cmp::Ordering::Less => (f, f.next_up()),
                 std::cmp::Ordering::Greater => (f.next_down(), f),
             }
         };
-        let small = value
-            .numer()
-            .to_i128()
-            .zip(value.denom().to_i128())
-            .filter(|(p, q)| p.unsigned_abs() < 1 << 62 && *q < 1 << 62);
+        let small = wide.filter(|(p, q)| p.unsigned_abs() < 1 << 62 && *q < 1 << 62);
         Level {
             value,
             lo,
             hi,
             small,
+            wide,
         }
+    }
+
+    /// `c = p / q` with `p`, `q` in `i128` (`q > 0`), when it fits.
+    #[inline]
+    pub fn wide(&self) -> Option<(i128, i128)> {
+        self.wide
     }
 
     /// `c = p / q` with `|p|, q < 2^62`, when it is that small (the integer
@@ -126,6 +164,21 @@ mod tests {
         let third = Level::new(parse_rational("1/3").unwrap());
         assert_eq!(third.sign_of(1.0 / 3.0), Sign::Negative);
         assert_eq!(third.sign_of((1.0f64 / 3.0).next_up()), Sign::Positive);
+    }
+
+    proptest::proptest! {
+        /// The integer comparison of a double with `p / q` agrees with
+        /// the rational one.
+        #[test]
+        fn double_comparison_is_exact(bits in proptest::num::u64::ANY, p in proptest::num::i128::ANY, pb in 1u32..128, q in 1i128..i128::MAX, qb in 1u32..127) {
+            let f = f64::from_bits(bits);
+            proptest::prop_assume!(f.is_finite());
+            let (p, q) = (p >> (128 - pb), (q >> (127 - qb)).max(1));
+            if let Some(o) = cmp_double(f, p, q) {
+                let r = Rat::new(p.into(), q.into());
+                proptest::prop_assert_eq!(o, rat_from_f64(f).cmp(&r));
+            }
+        }
     }
 
     #[test]

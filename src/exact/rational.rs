@@ -161,6 +161,13 @@ pub fn rat_to_f64(r: &Rat) -> f64 {
             return n as f64 / d as f64;
         }
     }
+    // Both parts within 128 bits: integer division to 55 or 56 bits plus
+    // a sticky bit (as for points stored as integers), no big numbers.
+    if let (Some(n), Some(d)) = (r.numer().to_i128(), r.denom().to_u128()) {
+        if let Some(f) = ratio_to_f64_normal(n.unsigned_abs(), d, 0) {
+            return if n < 0 { -f } else { f };
+        }
+    }
     // num-rational rounds the quotient correctly for BigRational.
     r.to_f64().unwrap_or(if r.is_negative() {
         f64::NEG_INFINITY
@@ -324,6 +331,19 @@ mod tests {
             let d = (d >> (128 - db)).max(1);
             let reference = ratio_to_rat(n, d, e).to_f64().unwrap();
             proptest::prop_assert_eq!(ratio_to_f64(n, d, e).to_bits(), reference.to_bits());
+        }
+
+        /// Rationals whose parts fit 128 bits (the integer path of
+        /// `rat_to_f64`) round like num-rational's conversion.
+        #[test]
+        fn wide_rationals_round_correctly(
+            n in proptest::num::i128::ANY, nb in 1u32..128,
+            d in proptest::num::u128::ANY, db in 1u32..128
+        ) {
+            let n = n >> (128 - nb);
+            let d = (d >> (128 - db)).max(1);
+            let r = Rat::new(n.into(), d.into());
+            proptest::prop_assert_eq!(rat_to_f64(&r).to_bits(), r.to_f64().unwrap().to_bits());
         }
 
         /// Exact ties and their neighbours round to even: `(2m + 1) / 2`

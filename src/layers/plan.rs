@@ -76,17 +76,74 @@ pub fn plan_levels(
                 .filter(|&n| n + levels.len() <= MAX_LEVELS)
                 .ok_or_else(|| PlanError::TooMany(count.to_integer().to_string()))?;
             levels.reserve(n);
-            for k in 0..n {
-                levels.push(&first + &p.height * Rat::from_integer(k.into()));
+            if !uniform_in_i128(&first, &p.height, n, &mut levels) {
+                for k in 0..n {
+                    levels.push(&first + &p.height * Rat::from_integer(k.into()));
+                }
             }
         }
     }
-    levels.sort_unstable();
-    levels.dedup();
+    // Uniform levels alone are ascending and distinct already.
+    if !explicit.is_empty() {
+        levels.sort_unstable();
+        levels.dedup();
+    }
     if levels.is_empty() {
         return Err(PlanError::Empty);
     }
     Ok(levels)
+}
+
+/// Pushes `first + k height` for `k < n` onto `levels` (in lowest terms,
+/// as rational arithmetic gives them) computed in `i128` over the common
+/// denominator `D`: `(a + k b) / D`, one gcd per level. Returns false,
+/// pushing nothing, when the numbers do not fit.
+fn uniform_in_i128(first: &Rat, height: &Rat, n: usize, levels: &mut Vec<Rat>) -> bool {
+    let parts = |r: &Rat| r.numer().to_i128().zip(r.denom().to_i128());
+    let (Some((fp, fq)), Some((hp, hq))) = (parts(first), parts(height)) else {
+        return false;
+    };
+    let g = gcd(fq.unsigned_abs(), hq.unsigned_abs()) as i128;
+    let ints = || -> Option<(i128, i128, i128)> {
+        let d = (fq / g).checked_mul(hq)?;
+        let a = fp.checked_mul(d / fq)?;
+        let b = hp.checked_mul(d / hq)?;
+        // The last numerator fits, so every one before it does (b > 0).
+        a.checked_add(b.checked_mul(i128::try_from(n).ok()?)?)?;
+        Some((a, b, d))
+    };
+    let Some((a, b, d)) = ints() else {
+        return false;
+    };
+    let mut num = a;
+    for _ in 0..n {
+        let g = gcd(num.unsigned_abs(), d.unsigned_abs()) as i128;
+        levels.push(Rat::new_raw((num / g).into(), (d / g).into()));
+        num += b;
+    }
+    true
+}
+
+/// The greatest common divisor (`gcd(0, d) = d`).
+fn gcd(mut a: u128, mut b: u128) -> u128 {
+    if a == 0 {
+        return b;
+    }
+    if b == 0 {
+        return a;
+    }
+    let shift = (a | b).trailing_zeros();
+    a >>= a.trailing_zeros();
+    loop {
+        b >>= b.trailing_zeros();
+        if a > b {
+            std::mem::swap(&mut a, &mut b);
+        }
+        b -= a;
+        if b == 0 {
+            return a << shift;
+        }
+    }
 }
 
 #[cfg(test)]
@@ -110,6 +167,25 @@ mod tests {
         assert_eq!(v[0], r("0.1"));
         // No drift: layer 999 is exactly 0.1 + 999 * 0.2.
         assert_eq!(v[999], r("199.9"));
+    }
+
+    proptest::proptest! {
+        /// The integer path gives the rational arithmetic's levels, in
+        /// lowest terms.
+        #[test]
+        fn integer_levels_equal_rational_ones(fp in -(1i64 << 62)..(1i64 << 62), fe in 0u32..70, hp in 1i64..100_000, hd in 0u32..12) {
+            let first = Rat::new(fp.into(), num_bigint::BigInt::from(1) << fe);
+            let height = Rat::new(hp.into(), num_traits::pow(num_bigint::BigInt::from(10), hd as usize));
+            let mut fast = Vec::new();
+            if uniform_in_i128(&first, &height, 50, &mut fast) {
+                let slow: Vec<Rat> = (0..50).map(|k| &first + &height * Rat::from_integer(k.into())).collect();
+                for (f, s) in fast.iter().zip(&slow) {
+                    proptest::prop_assert_eq!(f.numer(), s.numer());
+                    proptest::prop_assert_eq!(f.denom(), s.denom());
+                }
+                proptest::prop_assert_eq!(fast.len(), 50);
+            }
+        }
     }
 
     #[test]

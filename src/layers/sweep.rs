@@ -86,7 +86,11 @@ impl Heights {
     /// counting sort by level, so each level's faces stay ascending); the
     /// same result either way.
     fn new(mesh: &Mesh, unit: &Rat, levels: &[Rat], parallel: bool) -> Self {
-        let grid: Vec<Level> = levels.iter().map(|c| Level::new(c / unit)).collect();
+        let one = num_traits::One::is_one(unit);
+        let grid: Vec<Level> = levels
+            .iter()
+            .map(|c| Level::new(if one { c.clone() } else { c / unit }))
+            .collect();
         let brackets: Vec<Bracket> = grid.iter().map(Level::bracket).collect();
         let approx: Vec<f64> = grid.iter().map(Level::approx).collect();
         // The plan may be made before validation: a face with a vertex out
