@@ -42,16 +42,17 @@ if printf '#include <CGAL/version.h>\n#include <gmp.h>\n#include <mpfr.h>\n#incl
 fi
 
 parsers=(parse_stl parse_obj parse_off parse_ply parse_3mf parse_3mf_model)
-# Parsers: the default instrumentation (comparison tracing finds keywords).
-parser_flags=(--sanitizer "$sanitizer")
-# Slab targets: big-rational arithmetic makes comparison tracing costly and
-# useless (3-5x fewer executions), so it is off; overflow checks are on.
-# Their own target dir keeps both builds cached.
-slice_flags=(--sanitizer "$sanitizer" --no-trace-compares --debug-assertions
-  --target-dir "$root/fuzz/target/slice")
+# Every target in one build (one set of flags, one target dir: a second
+# instrumented build of the crate costs CI about ten minutes). Comparison
+# tracing is off: for the slab targets big-rational arithmetic makes it
+# costly and useless (3-5x fewer executions); the parsers lose some help
+# finding keywords, which their seed corpora (every format's keywords)
+# make up for. Overflow checks are on.
+flags=(--sanitizer "$sanitizer" --no-trace-compares --debug-assertions
+  --target-dir "$root/fuzz/target/all")
 slices=(slice_invariants adversarial)
 if [ "$have_cgal" = 1 ]; then
-  slice_flags+=(--features cgal-oracle)
+  flags+=(--features cgal-oracle)
   slices+=(slice_oracle)
 else
   echo "== CGAL/GMP/MPFR/Boost headers missing: slice_oracle skipped"
@@ -62,27 +63,15 @@ mkdir -p "$scratch/logs"
 
 status=0
 declare -A result
-build() {
-  local what=$1
-  shift
-  echo "== cargo fuzz build $*"
-  if ! cargo fuzz build "$@"; then
-    echo "FAILED to build the $what targets" >&2
-    status=1
-    return 1
-  fi
-}
-
 b0=$(date +%s)
-parsers_built=1
-slices_built=1
-for t in "${parsers[@]}"; do
-  build parser "${parser_flags[@]}" "$t" || parsers_built=0
-done
-for t in "${slices[@]}"; do
-  build slab "${slice_flags[@]}" "$t" || slices_built=0
-done
-echo "== builds took $(($(date +%s) - b0)) s"
+echo "== cargo fuzz build ${flags[*]}"
+built=1
+if ! cargo fuzz build "${flags[@]}"; then
+  echo "FAILED to build the fuzz targets" >&2
+  status=1
+  built=0
+fi
+echo "== build took $(($(date +%s) - b0)) s"
 
 # run TARGET "LIBFUZZER ARGS" CARGO-FUZZ FLAGS...
 run() {
@@ -114,14 +103,12 @@ run() {
   echo "$t: ${result[$t]}"
 }
 
-if [ "$parsers_built" = 1 ]; then
+if [ "$built" = 1 ]; then
   for t in "${parsers[@]}"; do
-    run "$t" "" "${parser_flags[@]}"
+    run "$t" "" "${flags[@]}"
   done
-fi
-if [ "$slices_built" = 1 ]; then
   for t in "${slices[@]}"; do
-    run "$t" "-max_len=256 -timeout=60" "${slice_flags[@]}"
+    run "$t" "-max_len=256 -timeout=60" "${flags[@]}"
   done
 fi
 
