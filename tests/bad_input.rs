@@ -194,21 +194,57 @@ fn rows() -> Vec<Row> {
             3,
             "face f4 duplicates face f2",
         ),
+        // A zero-area face at a T-junction: face 0 holds the whole
+        // segment v0-v1, faces 2 and 3 hold its halves and share one
+        // vertex each with face 0 (SPEC 1: they meet outside what they
+        // share). Still named as a zero-area face by check.
         row(
-            "zero-area face (accepted, reported by check)",
+            "zero-area face at a T-junction (its neighbours meet outside shared elements)",
             "zero_area.off",
             off(&zero_pos, &zero_faces),
             Run::Check,
-            0,
+            3,
             "face f1 has zero area",
         ),
         row(
-            "zero-area face in the plane (accepted, sliced, verified)",
+            "zero-area face at a T-junction, sliced",
             "zero_area_sliced.off",
             off(&zero_pos, &zero_faces),
             Run::Slice("0"),
-            0,
-            "",
+            3,
+            "error: faces f0 and f2 intersect",
+        ),
+        // The tetrahedron and a copy shifted by 1/4 on every axis, with
+        // their own vertex ids: the first's faces in x = 0, y = 0, z = 0
+        // miss the copy (x, y, z >= 1/4 on it); its slanted face f3 meets
+        // the copy's bottom f4 (z = 1/4: at (3/8, 3/8, 1/4), where
+        // x + y + z = 1 and x, y >= 1/4).
+        row(
+            "overlapping bodies (self-intersection), sliced",
+            "overlap.off",
+            two_tetras([0.25, 0.25, 0.25], [4, 5, 6, 7]),
+            s,
+            3,
+            "error: faces f3 and f4 intersect",
+        ),
+        row(
+            "overlapping bodies (self-intersection), checked",
+            "overlap_check.off",
+            two_tetras([0.25, 0.25, 0.25], [4, 5, 6, 7]),
+            Run::Check,
+            3,
+            "error: faces f3 and f4 intersect",
+        ),
+        // The copy shifted by (1, 0, 0): its corner v4 = (1, 0, 0) sits on
+        // the first one's corner v1 with another id; bodies touching at a
+        // point self-intersect (faces f0 and f4 share that point).
+        row(
+            "bodies touching at one point with separate ids",
+            "touch.off",
+            two_tetras([1.0, 0.0, 0.0], [4, 5, 6, 7]),
+            s,
+            3,
+            "error: faces f0 and f4 intersect",
         ),
         row(
             "OBJ index out of range",

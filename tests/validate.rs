@@ -193,10 +193,25 @@ fn with_sliver(apex: [f64; 3]) -> Mesh {
 }
 
 #[test]
-fn zero_area_faces_are_reported_but_accepted() {
+fn a_zero_area_face_leaves_its_neighbours_meeting_outside_shared_elements() {
+    // Face 1 = [0, 1, 4] is the segment v0-v1 with v4 at its midpoint (a
+    // T-junction). Face 0 = [0, 2, 1] holds that whole segment; face 2 =
+    // [0, 4, 3] holds v0-v4 and shares only v0 with it, face 3 = [4, 1, 3]
+    // holds v4-v1 and shares only v1: both meet face 0 along a segment
+    // outside their shared elements (SPEC 1). Every other pair meets only
+    // in what it shares: faces 2 and 3 lie in the plane y = 0 on either
+    // side of their edge v4-v3, face 1 meets its neighbours along its
+    // edges' line only where they hold its edges.
     let r = validate(&with_sliver(TETRA_POS[3]));
-    assert!(r.is_accepted(), "{r}");
-    assert_eq!(r.defects, vec![Defect::ZeroAreaFace { face: f(1) }]);
+    assert!(!r.is_accepted(), "{r}");
+    assert_eq!(
+        r.defects,
+        vec![
+            Defect::ZeroAreaFace { face: f(1) },
+            Defect::SelfIntersection { a: f(0), b: f(2) },
+            Defect::SelfIntersection { a: f(0), b: f(3) },
+        ]
+    );
 }
 
 #[test]
@@ -282,9 +297,9 @@ fn snapping_that_flattens_a_sliver_is_caught_and_named() {
 
 #[test]
 fn validation_reports_the_same_on_one_and_on_several_threads() {
-    // Volume, duplicates, topology, zero-area faces and folds are found by
-    // passes that run side by side on a pool: the report must not depend
-    // on its size.
+    // Volume, duplicates, topology, zero-area faces, folds and
+    // self-intersections are found by passes that run side by side on a
+    // pool: the report must not depend on its size.
     let mut duplicated = tetra();
     duplicated.faces.push(duplicated.faces[2]);
     duplicated.faces.push(duplicated.faces[0]);
@@ -315,6 +330,7 @@ fn validation_reports_the_same_on_one_and_on_several_threads() {
             first: f(0),
         },
         Defect::ZeroAreaFace { face: f(0) },
+        Defect::SelfIntersection { a: f(0), b: f(0) },
         Defect::Fold {
             a: v(0),
             b: v(0),
@@ -382,5 +398,5 @@ fn accepting_for_slicing_agrees_with_validation() {
             }
         }
     }
-    assert_eq!(rejected, 4);
+    assert_eq!(rejected, 5);
 }

@@ -5,6 +5,7 @@
 //! Nothing here rounds: positions are kept as the exact binary floating-point
 //! values the file holds (every finite `f64` is an exact dyadic rational).
 
+pub mod intersect;
 pub mod io;
 pub mod snap;
 pub mod topology;
