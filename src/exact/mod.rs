@@ -10,6 +10,7 @@ pub mod dyadic;
 pub mod filter;
 pub mod grid;
 pub mod level;
+pub mod orient_filter;
 pub mod point;
 pub mod predicates;
 pub mod rational;

@@ -28,6 +28,7 @@ mod tests;
 
 pub use narrow::EdgeOverlap;
 
+use crate::exact::orient_filter::Filter;
 use crate::ids::{EdgeId, FaceId, VertexId};
 use crate::mesh::topology::Topology;
 use crate::mesh::Mesh;
@@ -49,7 +50,7 @@ pub struct FacePairs {
 pub(crate) struct Found {
     pairs: Vec<(FaceId, FaceId)>,
     dropped: usize,
-    keep: usize,
+    pub(crate) keep: usize,
 }
 
 impl Found {
@@ -66,6 +67,12 @@ impl Found {
         if self.pairs.len() > self.keep.saturating_mul(2).max(64) {
             self.trim();
         }
+    }
+
+    /// Adds another collection's pairs and count.
+    pub(crate) fn absorb(&mut self, other: Found) {
+        let me = std::mem::replace(self, Found::new(self.keep));
+        *self = me.merged(other);
     }
 
     pub(crate) fn merged(mut self, mut other: Found) -> Found {
@@ -107,12 +114,14 @@ impl Found {
 /// `topo` must be the topology of `mesh` with no issue (closed, oriented,
 /// manifold) and `mesh`'s coordinates finite.
 pub fn edge_overlaps(mesh: &Mesh, topo: &Topology) -> Vec<(EdgeId, EdgeOverlap)> {
+    let filter = Filter::for_points(&mesh.positions);
     topo.edges
         .par_iter()
         .with_min_len(par::MIN_LEN)
         .enumerate()
         .filter_map(|(k, e)| {
             let kind = narrow::edge_faces_overlap(
+                filter,
                 mesh.pos(e.v[0]),
                 mesh.pos(e.v[1]),
                 mesh.pos(e.opposite[0]),
@@ -129,6 +138,7 @@ pub fn edge_overlaps(mesh: &Mesh, topo: &Topology) -> Vec<(EdgeId, EdgeOverlap)>
 /// `topo` must be the topology of `mesh` with no issue (closed, oriented,
 /// manifold) and `mesh`'s coordinates finite.
 pub fn separate_face_pairs(mesh: &Mesh, topo: &Topology, keep: usize) -> FacePairs {
+    let filter = Filter::for_points(&mesh.positions);
     let parallel = mesh.num_faces() >= par::MIN_LEN;
     let (at_vertices, apart) = par::join(
         parallel,
@@ -140,7 +150,7 @@ pub fn separate_face_pairs(mesh: &Mesh, topo: &Topology, keep: usize) -> FacePai
                     || Found::new(keep),
                     |mut found, v| {
                         let v = VertexId::from_idx(v);
-                        fan::fan_pairs(mesh, v, topo.fan(v), &mut found);
+                        fan::fan_pairs(filter, mesh, v, topo.fan(v), &mut found);
                         found
                     },
                 )
@@ -149,7 +159,7 @@ pub fn separate_face_pairs(mesh: &Mesh, topo: &Topology, keep: usize) -> FacePai
         || {
             let tree = bvh::Bvh::build(mesh, parallel);
             let face = |f: FaceId| mesh.faces[f.idx()].map(|v| mesh.pos(v));
-            tree.pairs(&|a, b| narrow::faces_meet(face(a), face(b)), keep)
+            tree.pairs(&|a, b| narrow::faces_meet(filter, face(a), face(b)), keep)
         },
     );
     at_vertices.merged(apart).finish()

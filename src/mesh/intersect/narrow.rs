@@ -20,10 +20,15 @@
 //!
 //! A plane side is taken as a coordinate comparison when a face lies in a
 //! plane `x_k = c` (flat faces of CAD parts), and with [`orient3d`]
-//! otherwise; a projection onto the axes `(i, j)` is used only where the
+//! otherwise. The quick rejections (every vertex of one face strictly on
+//! one side of the other's plane) look at filtered signs first
+//! ([`crate::exact::orient_filter`]), so that an exactly zero sign (a
+//! vertex in the other plane, common on CAD parts, and slow to prove) is
+//! computed only when the other plane does not already decide; a projection onto the axes `(i, j)` is used only where the
 //! points lie in one plane that projects one to one there, so it keeps
 //! every orientation (up to one common sign).
 
+use crate::exact::orient_filter::Filter;
 use crate::exact::predicates::{is_degenerate_triangle, orient2d_axes, orient3d, Sign};
 
 /// A position, exact as stored.
@@ -67,10 +72,37 @@ fn side(t: &[P; 3], flat: Option<usize>, x: P) -> Sign {
     }
 }
 
+/// [`side`] when a filter or a comparison shows it.
+#[inline]
+fn side_filtered(f: Filter, t: &[P; 3], flat: Option<usize>, x: P) -> Option<Sign> {
+    match flat {
+        Some(k) => Some(cmp_sign(x[k], t[0][k])),
+        None => f.orient3d(t[0], t[1], t[2], x),
+    }
+}
+
 /// Whether every sign is the same non-zero sign.
 #[inline]
 fn one_strict_side(s: &[Sign]) -> bool {
     s[0] != Sign::Zero && s.iter().all(|&x| x == s[0])
+}
+
+/// [`one_strict_side`] of signs that are all known.
+#[inline]
+fn known_one_strict_side(s: &[Option<Sign>]) -> bool {
+    s.iter().all(Option::is_some) && s[0] != Some(Sign::Zero) && s.iter().all(|&x| x == s[0])
+}
+
+/// The sides of `x` against `t`'s plane: the filtered ones, the others
+/// exactly.
+#[inline]
+fn sides<const N: usize>(
+    t: &[P; 3],
+    flat: Option<usize>,
+    x: [P; N],
+    known: [Option<Sign>; N],
+) -> [Sign; N] {
+    std::array::from_fn(|i| known[i].unwrap_or_else(|| side(t, flat, x[i])))
 }
 
 /// Whether the signs hold both a positive and a negative one.
@@ -93,7 +125,7 @@ enum Shape {
 }
 
 impl Shape {
-    fn of(t: [P; 3]) -> Shape {
+    fn of(f: Filter, t: [P; 3]) -> Shape {
         if let Some(k) = flat_axis(&t) {
             // In the plane x_k = c: the projection on the other two axes
             // is an isometry of that plane.
@@ -102,7 +134,7 @@ impl Shape {
             if s != Sign::Zero {
                 return Shape::Triangle(t, ax, s);
             }
-        } else if let Some((ax, s)) = projection(t[0], t[1], t[2]) {
+        } else if let Some((ax, s)) = projection(f, t[0], t[1], t[2]) {
             return Shape::Triangle(t, ax, s);
         }
         // Collinear: order along an axis on which the points differ (the
@@ -126,11 +158,17 @@ impl Shape {
 
 /// Axes on which `(a, b, c)` projects with non-zero area, and its
 /// orientation there; `None` when the three points are collinear.
-fn projection(a: P, b: P, c: P) -> Option<(Axes, Sign)> {
-    AXES.iter().find_map(|&ax| {
-        let s = ax.o2(a, b, c);
-        (s != Sign::Zero).then_some((ax, s))
-    })
+fn projection(f: Filter, a: P, b: P, c: P) -> Option<(Axes, Sign)> {
+    // Filtered first: an exactly zero orientation (a face standing on that
+    // plane) is slow to prove.
+    AXES.iter()
+        .find_map(|&ax| f.orient2d_axes(a, b, c, ax.0, ax.1).map(|s| (ax, s)))
+        .or_else(|| {
+            AXES.iter().find_map(|&ax| {
+                let s = ax.o2(a, b, c);
+                (s != Sign::Zero).then_some((ax, s))
+            })
+        })
 }
 
 // ---------------------------------------------------------------------------
@@ -243,36 +281,93 @@ fn line_meets_triangle(x: P, y: P, t: &[P; 3]) -> bool {
 }
 
 /// The closed point sets of two faces with no shared vertex id meet.
-pub(crate) fn faces_meet(p: [P; 3], q: [P; 3]) -> bool {
+pub(crate) fn faces_meet(f: Filter, p: [P; 3], q: [P; 3]) -> bool {
     let (fp, fq) = (flat_axis(&p), flat_axis(&q));
-    let sq = [side(&p, fp, q[0]), side(&p, fp, q[1]), side(&p, fp, q[2])];
+    if let (Some(k), Some(l)) = (fp, fq) {
+        if k == l {
+            // Both in planes x_k = c: parallel, or one plane, where the
+            // projection on the other two axes is an isometry.
+            if p[0][k] != q[0][k] {
+                return false;
+            }
+            let ax = Axes((k + 1) % 3, (k + 2) % 3);
+            let (op, oq) = (ax.o2(p[0], p[1], p[2]), ax.o2(q[0], q[1], q[2]));
+            if op != Sign::Zero && oq != Sign::Zero {
+                return triangles_meet_2d(ax, &p, op, &q, oq);
+            }
+            return shapes_meet(f, Shape::of(f, p), Shape::of(f, q));
+        }
+    }
+    if fp.is_none() && fq.is_some() {
+        // Sides against a plane x_k = c first: comparisons.
+        return faces_meet(f, q, p);
+    }
+    let fsq = q.map(|x| side_filtered(f, &p, fp, x));
+    if known_one_strict_side(&fsq) {
+        return false;
+    }
+    let fsp = p.map(|x| side_filtered(f, &q, fq, x));
+    if known_one_strict_side(&fsp) {
+        return false;
+    }
+    let (Shape::Triangle(_, ap, op), Shape::Triangle(_, aq, oq)) =
+        (Shape::of(f, p), Shape::of(f, q))
+    else {
+        return shapes_meet(f, Shape::of(f, p), Shape::of(f, q));
+    };
+    // Before any exact side (a vertex in the other plane, as a vertex of a
+    // coplanar neighbour often is on CAD parts, is slow to prove): faces
+    // whose projections are apart are apart.
+    if projections_apart(f, ap, &p, op, &q) {
+        return false;
+    }
+    // Both proper, so the sides are against their planes; each exact side
+    // is computed only once it decides something.
+    let sq = sides(&p, fp, q, fsq);
     if one_strict_side(&sq) {
         return false;
     }
-    let sp = [side(&q, fq, p[0]), side(&q, fq, p[1]), side(&q, fq, p[2])];
+    if sq.iter().all(|&s| s == Sign::Zero) {
+        let oq_in_ap = ap.o2(q[0], q[1], q[2]);
+        return triangles_meet_2d(ap, &p, op, &q, oq_in_ap);
+    }
+    if !straddles(&sq) {
+        // q meets p's plane in a vertex or an edge only.
+        return touching_part_meets(&q, &sq, &p, ap, op);
+    }
+    let sp = sides(&q, fq, p, fsp);
     if one_strict_side(&sp) {
         return false;
     }
-    match (Shape::of(p), Shape::of(q)) {
-        (Shape::Triangle(_, ap, op), Shape::Triangle(_, aq, oq)) => {
-            // Both proper, so sq and sp are sides against their planes.
-            if sq.iter().all(|&s| s == Sign::Zero) {
-                let oq_in_ap = ap.o2(q[0], q[1], q[2]);
-                return triangles_meet_2d(ap, &p, op, &q, oq_in_ap);
-            }
-            if !straddles(&sq) {
-                return touching_part_meets(&q, &sq, &p, ap, op);
-            }
-            if !straddles(&sp) {
-                return touching_part_meets(&p, &sp, &q, aq, oq);
-            }
-            // Both cross the other's plane: the two triangles' cuts with
-            // the planes' common line are intervals; they meet exactly when
-            // an end of one lies in the other triangle, and every end is
-            // where an edge crosses (or a vertex touches) the other plane.
-            crossing_edges_meet(&q, &sq, &p) || crossing_edges_meet(&p, &sp, &q)
-        }
-        (a, b) => shapes_meet(a, b),
+    if !straddles(&sp) {
+        return touching_part_meets(&p, &sp, &q, aq, oq);
+    }
+    // Both cross the other's plane: the two triangles' cuts with the
+    // planes' common line are intervals; they meet exactly when an end of
+    // one lies in the other triangle, and every end is where an edge
+    // crosses (or a vertex touches) the other plane.
+    crossing_edges_meet(&q, &sq, &p) || crossing_edges_meet(&p, &sp, &q)
+}
+
+/// Whether the projections on `ax` of the proper triangle `p` (of
+/// orientation `op` there) and of `q` are apart, shown by filtered signs:
+/// `q` strictly beyond an edge of `p`, or (when `q` projects with a shown
+/// orientation) `p` strictly beyond an edge of `q`. Two faces whose
+/// projections are apart do not meet.
+fn projections_apart(f: Filter, ax: Axes, p: &[P; 3], op: Sign, q: &[P; 3]) -> bool {
+    let o2 = |a: P, b: P, c: P| f.orient2d_axes(a, b, c, ax.0, ax.1);
+    let beyond = |t: &[P; 3], out: Sign, u: &[P; 3]| {
+        (0..3).any(|i| {
+            let (a, b) = (t[i], t[(i + 1) % 3]);
+            u.iter().all(|&x| o2(a, b, x) == Some(out))
+        })
+    };
+    if beyond(p, op.flip(), q) {
+        return true;
+    }
+    match o2(q[0], q[1], q[2]) {
+        Some(oq) => beyond(q, oq.flip(), p),
+        None => false,
     }
 }
 
@@ -280,14 +375,17 @@ pub(crate) fn faces_meet(p: [P; 3], q: [P; 3]) -> bool {
 /// (`s`: its vertices' sides, some zero, none of opposite signs): its part
 /// in that plane (a vertex or an edge) meets `u`.
 fn touching_part_meets(t: &[P; 3], s: &[Sign; 3], u: &[P; 3], ax: Axes, o: Sign) -> bool {
-    let on: Vec<P> = (0..3)
-        .filter(|&i| s[i] == Sign::Zero)
-        .map(|i| t[i])
-        .collect();
-    match on[..] {
-        [x] => point_in_triangle_2d(ax, u, o, x),
-        [x, y] => segment_meets_triangle_2d(ax, u, o, x, y),
-        _ => unreachable!("a triangle with vertices on both sides of a plane or in it"),
+    let mut on = [[0.0; 3]; 3];
+    let mut n = 0;
+    for i in 0..3 {
+        if s[i] == Sign::Zero {
+            on[n] = t[i];
+            n += 1;
+        }
+    }
+    match n {
+        1 => point_in_triangle_2d(ax, u, o, on[0]),
+        _ => segment_meets_triangle_2d(ax, u, o, on[0], on[1]),
     }
 }
 
@@ -303,7 +401,7 @@ fn crossing_edges_meet(t: &[P; 3], s: &[Sign; 3], u: &[P; 3]) -> bool {
 }
 
 /// Two shapes, at least one degenerate, meet (closed sets).
-fn shapes_meet(a: Shape, b: Shape) -> bool {
+fn shapes_meet(f: Filter, a: Shape, b: Shape) -> bool {
     use Shape::*;
     match (a, b) {
         (Point(x), Point(y)) => x == y,
@@ -311,7 +409,7 @@ fn shapes_meet(a: Shape, b: Shape) -> bool {
         (Point(x), Triangle(t, ax, o)) | (Triangle(t, ax, o), Point(x)) => {
             orient3d(t[0], t[1], t[2], x) == Sign::Zero && point_in_triangle_2d(ax, &t, o, x)
         }
-        (Segment(x, y), Segment(u, w)) => segments_meet_3d(x, y, u, w),
+        (Segment(x, y), Segment(u, w)) => segments_meet_3d(f, x, y, u, w),
         (Segment(x, y), Triangle(t, ax, o)) | (Triangle(t, ax, o), Segment(x, y)) => {
             let (sx, sy) = (orient3d(t[0], t[1], t[2], x), orient3d(t[0], t[1], t[2], y));
             if sx == sy && sx != Sign::Zero {
@@ -326,14 +424,14 @@ fn shapes_meet(a: Shape, b: Shape) -> bool {
             // Not reached from `faces_meet`, which decides two proper
             // triangles itself; kept total: two triangles meet exactly when
             // an edge of one meets the other.
-            (0..3).any(|i| shapes_meet(Segment(p[i], p[(i + 1) % 3]), b))
-                || (0..3).any(|i| shapes_meet(Segment(q[i], q[(i + 1) % 3]), a))
+            (0..3).any(|i| shapes_meet(f, Segment(p[i], p[(i + 1) % 3]), b))
+                || (0..3).any(|i| shapes_meet(f, Segment(q[i], q[(i + 1) % 3]), a))
         }
     }
 }
 
 /// Two closed segments in space (each with distinct ends) meet.
-fn segments_meet_3d(x: P, y: P, u: P, w: P) -> bool {
+fn segments_meet_3d(f: Filter, x: P, y: P, u: P, w: P) -> bool {
     if orient3d(x, y, u, w) != Sign::Zero {
         return false;
     }
@@ -349,7 +447,7 @@ fn segments_meet_3d(x: P, y: P, u: P, w: P) -> bool {
         return a0 <= b1 && b0 <= a1;
     }
     let third = if cu { w } else { u };
-    match projection(x, y, third) {
+    match projection(f, x, y, third) {
         Some((ax, _)) => segments_meet_2d(ax, x, y, u, w),
         None => unreachable!("a non-collinear triple projects with non-zero area on some axes"),
     }
@@ -372,18 +470,28 @@ fn segments_meet_3d(x: P, y: P, u: P, w: P) -> bool {
 /// wedges narrower than a half-plane share a ray exactly when one holds a
 /// side of the other. A zero-area face's cone is the rays towards its
 /// other vertices (none when they sit at `v`).
-pub(crate) fn vertex_faces_overlap(v: P, a: P, b: P, c: P, d: P) -> bool {
+pub(crate) fn vertex_faces_overlap(f: Filter, v: P, a: P, b: P, c: P, d: P) -> bool {
     let (t1, t2) = ([v, a, b], [v, c, d]);
     let (f1, f2) = (flat_axis(&t1), flat_axis(&t2));
-    let (sc, sd) = (side(&t1, f1, c), side(&t1, f1, d));
+    if f1.is_none() && f2.is_some() {
+        // Sides against a plane x_k = c first: comparisons.
+        return vertex_faces_overlap(f, v, c, d, a, b);
+    }
+    let fcd = [side_filtered(f, &t1, f1, c), side_filtered(f, &t1, f1, d)];
+    if known_one_strict_side(&fcd) {
+        return false;
+    }
+    let fab = [side_filtered(f, &t2, f2, a), side_filtered(f, &t2, f2, b)];
+    if known_one_strict_side(&fab) {
+        return false;
+    }
+    // The exact sides of c and d (the rest does not need a and b's: they
+    // served only to reject early).
+    let [sc, sd] = sides(&t1, f1, [c, d], fcd);
     if sc == sd && sc != Sign::Zero {
         return false;
     }
-    let (sa, sb) = (side(&t2, f2, a), side(&t2, f2, b));
-    if sa == sb && sa != Sign::Zero {
-        return false;
-    }
-    match (Shape::of(t1), Shape::of(t2)) {
+    match (Shape::of(f, t1), Shape::of(f, t2)) {
         (Shape::Triangle(_, ax1, o1), Shape::Triangle(_, _, _)) => {
             let in_wedge1 = |x: P| ray_in_wedge_2d(ax1, v, a, b, o1, x);
             match (sc, sd) {
@@ -451,18 +559,22 @@ pub enum EdgeOverlap {
 /// edge. A zero-area face lies on the line `ab` (when `a` and `b` differ),
 /// so it meets a proper neighbour only along the edge, and a zero-area
 /// neighbour beyond the edge only if both run on past the same end.
-pub(crate) fn edge_faces_overlap(a: P, b: P, c: P, d: P) -> EdgeOverlap {
+pub(crate) fn edge_faces_overlap(f: Filter, a: P, b: P, c: P, d: P) -> EdgeOverlap {
     // When (a, b, c) lies in a plane x_k = c0 and is degenerate, d off
     // that plane makes (a, b, d) proper, and the answer below is `Proper`
     // either way.
     let coplanar = match flat_axis(&[a, b, c]) {
         Some(k) => d[k] == a[k],
-        None => orient3d(a, b, c, d) == Sign::Zero,
+        None => {
+            f.orient3d(a, b, c, d)
+                .unwrap_or_else(|| orient3d(a, b, c, d))
+                == Sign::Zero
+        }
     };
     if !coplanar {
         return EdgeOverlap::Proper;
     }
-    match (projection(a, b, c), projection(a, b, d)) {
+    match (projection(f, a, b, c), projection(f, a, b, d)) {
         (Some((ax, s)), Some(_)) => {
             if ax.o2(a, b, d) == s {
                 EdgeOverlap::Fold

@@ -9,6 +9,7 @@
 use super::narrow::{edge_faces_overlap, faces_meet, vertex_faces_overlap, EdgeOverlap, P};
 use super::self_intersections;
 use crate::datasets::slab::Slab;
+use crate::exact::orient_filter::Filter;
 use crate::exact::rational::{rat_from_f64, Rat};
 use crate::ids::{FaceId, VertexId};
 use crate::mesh::topology::Topology;
@@ -17,6 +18,9 @@ use num_traits::{One, Signed, Zero};
 use proptest::prelude::*;
 
 type Q3 = [Rat; 3];
+
+/// The pair tests take points of any range here: filters check each call.
+const F: Filter = Filter::CHECKING;
 
 fn q3(p: P) -> Q3 {
     p.map(rat_from_f64)
@@ -168,45 +172,49 @@ fn shift(t: [P; 3], d: P) -> [P; 3] {
 fn separate_triangles_meet_exactly_when_their_point_sets_do() {
     let t = [O, X, Y];
     // Parallel planes: apart.
-    assert!(!faces_meet(t, shift(t, [0.0, 0.0, 1.0])));
+    assert!(!faces_meet(F, t, shift(t, [0.0, 0.0, 1.0])));
     // A vertical triangle standing on t's hypotenuse midpoint: touches.
     let stand = [[0.5, 0.5, 0.0], [0.5, 0.5, 1.0], [2.0, 2.0, 1.0]];
-    assert!(faces_meet(t, stand));
+    assert!(faces_meet(F, t, stand));
     // The same lifted by the smallest step: apart.
     let lifted = stand.map(|p| [p[0], p[1], p[2] + f64::EPSILON]);
-    assert!(!faces_meet(t, lifted));
+    assert!(!faces_meet(F, t, lifted));
     // Piercing t's interior.
     assert!(faces_meet(
+        F,
         t,
         [[0.2, 0.2, -1.0], [0.2, 0.2, 1.0], [3.0, 3.0, 0.5]]
     ));
     // Crossing t's plane beside it (x + y > 1 everywhere on the segment).
     assert!(!faces_meet(
+        F,
         t,
         [[0.6, 0.6, -1.0], [0.6, 0.6, 1.0], [3.0, 3.0, 0.5]]
     ));
     // Coplanar: overlapping, sharing only an edge's point set, corner to
     // corner, and apart by the smallest step.
-    assert!(faces_meet(t, shift(t, [0.5, 0.0, 0.0])));
-    assert!(faces_meet(t, [X, Y, [1.0, 1.0, 0.0]]));
-    assert!(faces_meet(t, shift(t, [1.0, 0.0, 0.0])));
-    assert!(!faces_meet(t, shift(t, [1.0f64.next_up(), 0.0, 0.0])));
+    assert!(faces_meet(F, t, shift(t, [0.5, 0.0, 0.0])));
+    assert!(faces_meet(F, t, [X, Y, [1.0, 1.0, 0.0]]));
+    assert!(faces_meet(F, t, shift(t, [1.0, 0.0, 0.0])));
+    assert!(!faces_meet(F, t, shift(t, [1.0f64.next_up(), 0.0, 0.0])));
     // Zero-area faces: a segment through t, a segment beside it, a point
     // on its edge, a point just off it.
     assert!(faces_meet(
+        F,
         t,
         [[0.25, 0.25, -1.0], [0.25, 0.25, 0.0], [0.25, 0.25, 1.0]]
     ));
     assert!(!faces_meet(
+        F,
         t,
         [[2.0, 2.0, -1.0], [2.0, 2.0, 0.0], [2.0, 2.0, 1.0]]
     ));
-    assert!(faces_meet(t, [[0.5, 0.5, 0.0]; 3]));
-    assert!(!faces_meet(t, [[0.5, 0.5f64.next_up(), 0.0]; 3]));
+    assert!(faces_meet(F, t, [[0.5, 0.5, 0.0]; 3]));
+    assert!(!faces_meet(F, t, [[0.5, 0.5f64.next_up(), 0.0]; 3]));
     // Two collinear segments, overlapping and apart.
     let seg = |a: f64, b: f64| [[a, 7.0, 7.0], [b, 7.0, 7.0], [(a + b) / 2.0, 7.0, 7.0]];
-    assert!(faces_meet(seg(0.0, 2.0), seg(2.0, 3.0)));
-    assert!(!faces_meet(seg(0.0, 2.0), seg(2.5, 3.0)));
+    assert!(faces_meet(F, seg(0.0, 2.0), seg(2.0, 3.0)));
+    assert!(!faces_meet(F, seg(0.0, 2.0), seg(2.5, 3.0)));
 }
 
 #[test]
@@ -214,14 +222,15 @@ fn faces_sharing_a_vertex_overlap_only_beyond_it() {
     // Fan around O in the plane z = 0.
     let (a, b) = (X, [1.0, 1.0, 0.0]);
     // A neighbour wedge on the other side: only O in common.
-    assert!(!vertex_faces_overlap(O, a, b, Y, [-1.0, 1.0, 0.0]));
+    assert!(!vertex_faces_overlap(F, O, a, b, Y, [-1.0, 1.0, 0.0]));
     // Wedges sharing the ray through b (a segment in common).
-    assert!(vertex_faces_overlap(O, a, b, [2.0, 2.0, 0.0], Y));
+    assert!(vertex_faces_overlap(F, O, a, b, [2.0, 2.0, 0.0], Y));
     // Overlapping wedges.
-    assert!(vertex_faces_overlap(O, a, b, [2.0, 1.0, 0.0], Y));
+    assert!(vertex_faces_overlap(F, O, a, b, [2.0, 1.0, 0.0], Y));
     // Out of the plane: a face standing up on the ray through (1, 1/2)
     // lies over the first wedge and crosses it only along that ray.
     assert!(vertex_faces_overlap(
+        F,
         O,
         a,
         b,
@@ -230,6 +239,7 @@ fn faces_sharing_a_vertex_overlap_only_beyond_it() {
     ));
     // The same standing face over the ray through (1, 2): outside.
     assert!(!vertex_faces_overlap(
+        F,
         O,
         a,
         b,
@@ -238,6 +248,7 @@ fn faces_sharing_a_vertex_overlap_only_beyond_it() {
     ));
     // A face whose opposite edge pierces the first face's interior.
     assert!(vertex_faces_overlap(
+        F,
         O,
         a,
         b,
@@ -247,6 +258,7 @@ fn faces_sharing_a_vertex_overlap_only_beyond_it() {
     // Its edge crosses the plane beyond the edge ab, but the ray from O to
     // that crossing (towards (1.5, 0.2)) runs inside the first wedge.
     assert!(vertex_faces_overlap(
+        F,
         O,
         a,
         b,
@@ -255,6 +267,7 @@ fn faces_sharing_a_vertex_overlap_only_beyond_it() {
     ));
     // Crossing towards (0.2, 1.5): outside the wedge.
     assert!(!vertex_faces_overlap(
+        F,
         O,
         a,
         b,
@@ -263,6 +276,7 @@ fn faces_sharing_a_vertex_overlap_only_beyond_it() {
     ));
     // Zero-area faces: a segment from O along the first face, and away.
     assert!(vertex_faces_overlap(
+        F,
         O,
         a,
         b,
@@ -270,6 +284,7 @@ fn faces_sharing_a_vertex_overlap_only_beyond_it() {
         [1.0, 0.5, 0.0]
     ));
     assert!(!vertex_faces_overlap(
+        F,
         O,
         a,
         b,
@@ -277,47 +292,47 @@ fn faces_sharing_a_vertex_overlap_only_beyond_it() {
         [-1.0, -0.5, 0.0]
     ));
     // A zero-area face with both other vertices at O's position: a point.
-    assert!(!vertex_faces_overlap(O, a, b, O, O));
+    assert!(!vertex_faces_overlap(F, O, a, b, O, O));
     // A vertex at another vertex's position with its own id.
-    assert!(vertex_faces_overlap(O, a, b, a, [0.0, -1.0, 0.0]));
+    assert!(vertex_faces_overlap(F, O, a, b, a, [0.0, -1.0, 0.0]));
 }
 
 #[test]
 fn faces_on_an_edge_fold_or_run_on_along_it() {
     let (a, b) = (O, X);
     assert_eq!(
-        edge_faces_overlap(a, b, Y, [0.5, -1.0, 0.0]),
+        edge_faces_overlap(F, a, b, Y, [0.5, -1.0, 0.0]),
         EdgeOverlap::Proper
     );
     assert_eq!(
-        edge_faces_overlap(a, b, Y, [0.5, 1.0, 0.0]),
+        edge_faces_overlap(F, a, b, Y, [0.5, 1.0, 0.0]),
         EdgeOverlap::Fold
     );
     assert_eq!(
-        edge_faces_overlap(a, b, Y, [0.5, 1.0, 1.0]),
+        edge_faces_overlap(F, a, b, Y, [0.5, 1.0, 1.0]),
         EdgeOverlap::Proper
     );
     // Zero-area faces on the line: running on past the same end, past
     // different ends, one inside the edge.
     let on = |x: f64| [x, 0.0, 0.0];
     assert_eq!(
-        edge_faces_overlap(a, b, on(2.0), on(3.0)),
+        edge_faces_overlap(F, a, b, on(2.0), on(3.0)),
         EdgeOverlap::Collinear
     );
     assert_eq!(
-        edge_faces_overlap(a, b, on(-2.0), on(-1.0)),
+        edge_faces_overlap(F, a, b, on(-2.0), on(-1.0)),
         EdgeOverlap::Collinear
     );
     assert_eq!(
-        edge_faces_overlap(a, b, on(2.0), on(-1.0)),
+        edge_faces_overlap(F, a, b, on(2.0), on(-1.0)),
         EdgeOverlap::Proper
     );
     assert_eq!(
-        edge_faces_overlap(a, b, on(0.5), on(2.0)),
+        edge_faces_overlap(F, a, b, on(0.5), on(2.0)),
         EdgeOverlap::Proper
     );
     // One zero-area face past the end, a proper one: only the edge.
-    assert_eq!(edge_faces_overlap(a, b, on(2.0), Y), EdgeOverlap::Proper);
+    assert_eq!(edge_faces_overlap(F, a, b, on(2.0), Y), EdgeOverlap::Proper);
 }
 
 // ---------------------------------------------------------------------------
@@ -364,8 +379,8 @@ proptest! {
     ) {
         let p: Vec<P> = pts.iter().map(|c| c.map(|k| set.set(k))).collect();
         let (t1, t2) = ([p[0], p[1], p[2]], [p[3], p[4], p[5]]);
-        prop_assert_eq!(faces_meet(t1, t2), improper_reference(t1, t2, &[]), "{:?} {:?}", t1, t2);
-        prop_assert_eq!(faces_meet(t2, t1), faces_meet(t1, t2));
+        prop_assert_eq!(faces_meet(F, t1, t2), improper_reference(t1, t2, &[]), "{:?} {:?}", t1, t2);
+        prop_assert_eq!(faces_meet(F, t2, t1), faces_meet(F, t1, t2));
     }
 
     #[test]
@@ -375,10 +390,10 @@ proptest! {
     ) {
         let p: Vec<P> = pts.iter().map(|c| c.map(|k| set.set(k))).collect();
         let (v, a, b, c, d) = (p[0], p[1], p[2], p[3], p[4]);
-        let got = vertex_faces_overlap(v, a, b, c, d);
+        let got = vertex_faces_overlap(F, v, a, b, c, d);
         prop_assert_eq!(got, improper_reference([v, a, b], [v, c, d], &[v]), "{:?}", p);
-        prop_assert_eq!(vertex_faces_overlap(v, c, d, a, b), got);
-        prop_assert_eq!(vertex_faces_overlap(v, b, a, d, c), got);
+        prop_assert_eq!(vertex_faces_overlap(F, v, c, d, a, b), got);
+        prop_assert_eq!(vertex_faces_overlap(F, v, b, a, d, c), got);
     }
 
     #[test]
@@ -388,13 +403,13 @@ proptest! {
     ) {
         let p: Vec<P> = pts.iter().map(|c| c.map(|k| set.set(k))).collect();
         let (a, b, c, d) = (p[0], p[1], p[2], p[3]);
-        let got = edge_faces_overlap(a, b, c, d);
+        let got = edge_faces_overlap(F, a, b, c, d);
         prop_assert_eq!(
             got != EdgeOverlap::Proper,
             improper_reference([a, b, c], [b, a, d], &[a, b]),
             "{:?}", p
         );
-        prop_assert_eq!(edge_faces_overlap(b, a, d, c), got);
+        prop_assert_eq!(edge_faces_overlap(F, b, a, d, c), got);
     }
 
 }
@@ -408,8 +423,8 @@ proptest! {
         p in proptest::array::uniform6(f32_point()),
     ) {
         let (t1, t2) = ([p[0], p[1], p[2]], [p[3], p[4], p[5]]);
-        prop_assert_eq!(faces_meet(t1, t2), improper_reference(t1, t2, &[]));
-        let got = vertex_faces_overlap(p[0], p[1], p[2], p[3], p[4]);
+        prop_assert_eq!(faces_meet(F, t1, t2), improper_reference(t1, t2, &[]));
+        let got = vertex_faces_overlap(F, p[0], p[1], p[2], p[3], p[4]);
         prop_assert_eq!(got, improper_reference([p[0], p[1], p[2]], [p[0], p[3], p[4]], &[p[0]]));
     }
 }
@@ -426,11 +441,12 @@ fn all_pairs(mesh: &Mesh) -> Vec<(FaceId, FaceId)> {
             let (s, t) = (mesh.faces[i], mesh.faces[j]);
             let shared: Vec<usize> = (0..3).filter(|&k| t.contains(&s[k])).collect();
             let improper = match shared[..] {
-                [] => faces_meet(s.map(pos), t.map(pos)),
+                [] => faces_meet(F, s.map(pos), t.map(pos)),
                 [k] => {
                     // Both faces rotated to start at the shared vertex.
                     let l = (0..3).find(|&l| t[l] == s[k]).unwrap();
                     vertex_faces_overlap(
+                        F,
                         pos(s[k]),
                         pos(s[(k + 1) % 3]),
                         pos(s[(k + 2) % 3]),
@@ -447,7 +463,7 @@ fn all_pairs(mesh: &Mesh) -> Vec<(FaceId, FaceId)> {
                     };
                     let c = s.iter().copied().find(|&v| v != a && v != b).unwrap();
                     let d = t.iter().copied().find(|&v| v != a && v != b).unwrap();
-                    edge_faces_overlap(pos(a), pos(b), pos(c), pos(d)) != EdgeOverlap::Proper
+                    edge_faces_overlap(F, pos(a), pos(b), pos(c), pos(d)) != EdgeOverlap::Proper
                 }
                 _ => unreachable!("duplicate faces"),
             };
