@@ -1,6 +1,6 @@
 // CGAL Polygon_mesh_slicer driver for bench/compare.
 //
-//   cgal_slicer epick|epeck MESH.stl LEVELS.txt
+//   cgal_slicer epick|epeck MESH.stl|MESH.obj LEVELS.txt
 //
 // LEVELS.txt holds one level (a double) per line. Prints one JSON line:
 // load_s (read the binary STL, merge identical points, build the
@@ -15,6 +15,7 @@
 #include <CGAL/AABB_tree.h>
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/IO/OBJ.h>
 #include <CGAL/IO/STL.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_slicer.h>
@@ -48,8 +49,13 @@ int run(const char* mesh_path, const std::vector<double>& levels) {
   std::vector<std::array<double, 3>> points;
   std::vector<std::array<int, 3>> faces;
   {
+    std::string path(mesh_path);
+    bool obj = path.size() > 4 && path.substr(path.size() - 4) == ".obj";
     std::ifstream in(mesh_path, std::ios::binary);
-    if (!in || !CGAL::IO::read_STL(in, points, faces, CGAL::parameters::use_binary_mode(true))) {
+    bool ok = in && (obj ? CGAL::IO::read_OBJ(in, points, faces)
+                         : CGAL::IO::read_STL(in, points, faces,
+                                              CGAL::parameters::use_binary_mode(true)));
+    if (!ok) {
       std::cerr << "cannot read " << mesh_path << "\n";
       return 4;
     }

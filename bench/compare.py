@@ -39,7 +39,7 @@ def dec(x):
 
 def plan(meta, layers):
     """(first, height, count) as Fractions: exactly `layers` levels."""
-    if meta["name"].startswith("steps"):
+    if meta["name"].startswith(("steps_", "steps64_")):
         # Flats at k * 1.25 up to 123.75, the top at 125.5: levels k * H for
         # k = 1..N hit every flat (every tenth level at 1000 layers).
         h = Fraction(125, layers)
@@ -251,6 +251,9 @@ def main():
     ap.add_argument("--timeout", type=float, default=150.0, help="seconds per process")
     ap.add_argument("--tools", default="wmslice,wmslice-2t,manifold3d,cgal-epick,cgal-epeck,trimesh")
     ap.add_argument("--command", default="bench/compare")
+    ap.add_argument("--shapes", nargs="+", default=["torus", "steps", "torus0", "knot", "steps64"],
+                    help="torus, steps: on one small grid; torus0 (origin-centred f32 with noise "
+                    "near zero), knot (decimal OBJ), steps64 (f64 CAD-like): real patterns")
     args = ap.parse_args()
     TIMEOUT[0] = args.timeout
     os.makedirs(args.out, exist_ok=True)
@@ -267,10 +270,10 @@ def main():
     rows = []
     timed_out = []  # (tool, shape, triangles, layers)
     for size in args.sizes:
-        for shape in ("torus", "steps"):
+        for shape in args.shapes:
             name = f"{shape}_{size}"
-            mesh = os.path.join(args.meshes, name + ".stl")
             meta = json.load(open(os.path.join(args.meshes, name + ".json")))
+            mesh = os.path.join(args.meshes, meta.get("file", name + ".stl"))
             for layers in args.layers:
                 first, h, n = plan(meta, layers)
                 last = first + (n - 1) * h

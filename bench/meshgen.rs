@@ -11,20 +11,36 @@
 //!   all at `z = k * 1.25`; the last step is 1.75 tall (top at 125.5).
 //!   Layer plans `k * 1.25` and `k * 0.125` hit the flats exactly.
 //!
-//! Every coordinate is an exact `f32`; vertices are shared, so a binary STL
-//! of the mesh welds back to the same mesh.
+//! Every coordinate of those two is an exact `f32` on one small binary grid
+//! (the integer fast path of `exact/grid.rs` holds). Real files rarely
+//! are; three more shapes carry the coordinate patterns of real files:
+//!
+//! - [`torus_origin`]: the torus centred at the origin and tilted, in
+//!   `f32`, its rings starting on the axes, so that `cos(pi/2)` leaves
+//!   noise such as `1e-15` beside coordinates of 40 (about 80 bits of one
+//!   grid).
+//! - [`knot`]: a (2, 3) torus knot tube written as a decimal OBJ with six
+//!   decimals (`f64` values with scattered exponents).
+//! - [`steps_f64`]: the stepped part in `f64`, turned about z by an odd
+//!   angle (full 53-bit mantissas, near-zero noise), flats still at
+//!   `z = k * 1.25`: a CAD-like export.
+//!
+//! Vertices are shared, so a file of the mesh welds back to the same mesh.
 
 use std::f64::consts::TAU;
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
-/// A mesh being built: `f32` positions and outward CCW triangles.
+/// A mesh being built: positions (`f64`, rounded to `f32` on the way in
+/// unless [`Builder::double`]) and outward CCW triangles.
 #[derive(Default)]
 pub struct Builder {
     /// Vertex positions.
-    pub pos: Vec<[f32; 3]>,
+    pub pos: Vec<[f64; 3]>,
     /// Triangles, counter-clockwise seen from outside.
     pub tris: Vec<[u32; 3]>,
+    /// Keep `f64` positions (else each is rounded to `f32`).
+    pub double: bool,
 }
 
 impl Builder {
@@ -33,7 +49,12 @@ impl Builder {
         let base = self.pos.len() as u32;
         for j in 0..n {
             let p = at(j);
-            self.pos.push([p[0] as f32, p[1] as f32, p[2] as f32]);
+            let p = if self.double {
+                p
+            } else {
+                p.map(|c| f64::from(c as f32))
+            };
+            self.pos.push(p);
         }
         base
     }
@@ -51,10 +72,35 @@ impl Builder {
     }
 
     /// The lowest and highest vertex heights.
-    pub fn z_range(&self) -> (f32, f32) {
-        self.pos.iter().fold((f32::MAX, f32::MIN), |(lo, hi), p| {
+    pub fn z_range(&self) -> (f64, f64) {
+        self.pos.iter().fold((f64::MAX, f64::MIN), |(lo, hi), p| {
             (lo.min(p[2]), hi.max(p[2]))
         })
+    }
+
+    /// Writes an OBJ, each coordinate with `decimals` decimals, or the
+    /// shortest text that reads back as the same double when `None`.
+    pub fn write_obj(&self, path: &Path, decimals: Option<usize>) -> std::io::Result<()> {
+        let mut w = BufWriter::new(std::fs::File::create(path)?);
+        for p in &self.pos {
+            match decimals {
+                Some(d) => writeln!(w, "v {:.d$} {:.d$} {:.d$}", p[0], p[1], p[2])?,
+                None => writeln!(w, "v {:?} {:?} {:?}", p[0], p[1], p[2])?,
+            }
+        }
+        for t in &self.tris {
+            writeln!(w, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1)?;
+        }
+        w.flush()
+    }
+
+    /// The positions as a file holding them reads back: decimals rounded
+    /// to the nearest double, as an OBJ reader parses them.
+    pub fn rounded_to_decimals(mut self, decimals: usize) -> Builder {
+        for p in &mut self.pos {
+            *p = p.map(|c| format!("{c:.decimals$}").parse().expect("a decimal"));
+        }
+        self
     }
 
     /// Writes a binary STL (facet normals left zero, as many exporters do).
@@ -69,7 +115,7 @@ impl Builder {
             w.write_all(&[0u8; 12])?;
             for &v in t {
                 for c in self.pos[v as usize] {
-                    w.write_all(&c.to_le_bytes())?;
+                    w.write_all(&(c as f32).to_le_bytes())?;
                 }
             }
             w.write_all(&[0u8; 2])?;
@@ -80,14 +126,26 @@ impl Builder {
 
 /// A torus of `nu x nv` quads (2 nu nv triangles), tilted.
 pub fn torus(nu: usize, nv: usize) -> Builder {
+    torus_at(nu, nv, 0.25, 0.5)
+}
+
+/// The torus centred at the origin with its rings starting on the axes
+/// (`u = 2 pi i / nu`): `cos(pi / 2)` and `sin(pi)` leave noise of about
+/// `1e-15` beside coordinates of 40 in the `f32` values (`nu` a multiple
+/// of 4). Tilted and turned as [`torus`].
+pub fn torus_origin(nu: usize, nv: usize) -> Builder {
+    torus_at(nu, nv, 0.0, 0.0)
+}
+
+fn torus_at(nu: usize, nv: usize, u0: f64, v0: f64) -> Builder {
     let (big, small) = (40.0f64, 15.0f64);
     let (tilt, turn) = (0.4f64, 0.3f64);
     let mut b = Builder::default();
     let rings: Vec<u32> = (0..nv)
         .map(|j| {
-            let v = TAU * (j as f64 + 0.5) / nv as f64;
+            let v = TAU * (j as f64 + v0) / nv as f64;
             b.ring(nu, |i| {
-                let u = TAU * (i as f64 + 0.25) / nu as f64;
+                let u = TAU * (i as f64 + u0) / nu as f64;
                 let rr = big + small * v.cos();
                 let (x, y, z) = (rr * u.cos(), rr * u.sin(), small * v.sin());
                 // Tilt about x, then turn about z.
@@ -95,10 +153,15 @@ pub fn torus(nu: usize, nv: usize) -> Builder {
                     y * tilt.cos() - z * tilt.sin(),
                     y * tilt.sin() + z * tilt.cos(),
                 );
-                let (x, y) = (
-                    x * turn.cos() - y * turn.sin(),
-                    x * turn.sin() + y * turn.cos(),
-                );
+                let (x, y) = if u0 == 0.0 {
+                    // Turning would mix the noise away: keep it.
+                    (x, y)
+                } else {
+                    (
+                        x * turn.cos() - y * turn.sin(),
+                        x * turn.sin() + y * turn.cos(),
+                    )
+                };
                 [x, y, z]
             })
         })
@@ -111,16 +174,29 @@ pub fn torus(nu: usize, nv: usize) -> Builder {
 
 /// The stepped tube with `n` vertices per ring (404 n triangles).
 pub fn steps(n: usize) -> Builder {
+    steps_in(n, false, 0.0)
+}
+
+/// The stepped tube in `f64`, turned by `0.1` rad about z: full mantissas
+/// and near-zero noise in x and y, flats still at `z = k * 1.25`.
+pub fn steps_f64(n: usize) -> Builder {
+    steps_in(n, true, 0.1)
+}
+
+fn steps_in(n: usize, double: bool, turn: f64) -> Builder {
     const STEPS: usize = 100;
     const STEP: f64 = 1.25;
     const TOP: f64 = 125.5;
     const HOLE: f64 = 10.0;
     let zigzag = [0.0, 1.0, 2.0, 3.0, 4.0, 3.0, 2.0, 1.0];
     let radius = |k: usize| 30.0 + 2.0 * zigzag[k % 8];
-    let mut b = Builder::default();
+    let mut b = Builder {
+        double,
+        ..Builder::default()
+    };
     let circle = |r: f64, z: f64| {
         move |j: usize| {
-            let t = TAU * j as f64 / n as f64;
+            let t = TAU * j as f64 / n as f64 + turn;
             [r * t.cos(), r * t.sin(), z]
         }
     };
@@ -162,10 +238,71 @@ pub fn steps_of(triangles: usize) -> Builder {
     steps((triangles / 404).max(3))
 }
 
+/// [`torus_origin`] with about `triangles` triangles (`nu` a multiple of 4).
+pub fn torus_origin_of(triangles: usize) -> Builder {
+    let nv = ((triangles as f64 / 5.0).sqrt().round() as usize).max(4) / 4 * 4;
+    let nu = ((triangles / (2 * nv)) / 4 * 4).max(4);
+    torus_origin(nu, nv)
+}
+
+/// [`steps_f64`] with about `triangles` triangles.
+pub fn steps_f64_of(triangles: usize) -> Builder {
+    steps_f64((triangles / 404).max(3))
+}
+
+/// A (2, 3) torus knot swept by a circle of radius 0.4 (`n` rings of `m`
+/// vertices, `2 n m` triangles), centred at the origin, as a decimal OBJ
+/// with six decimals reads back ([`Builder::rounded_to_decimals`]).
+pub fn knot(n: usize, m: usize) -> Builder {
+    let curve = |t: f64| {
+        let r = 2.0 + (3.0 * t).cos();
+        [r * (2.0 * t).cos(), r * (2.0 * t).sin(), -(3.0 * t).sin()]
+    };
+    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let unit = |a: [f64; 3]| {
+        let l = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+        a.map(|c| c / l)
+    };
+    let mut b = Builder {
+        double: true,
+        ..Builder::default()
+    };
+    let rings: Vec<u32> = (0..n)
+        .map(|i| {
+            let t = TAU * i as f64 / n as f64;
+            let (p, q) = (curve(t), curve(t + 1e-4));
+            let tangent = unit(sub(q, p));
+            let normal = unit(cross(tangent, [0.0, 0.0, 1.0]));
+            let binormal = cross(tangent, normal);
+            b.ring(m, |j| {
+                let a = TAU * j as f64 / m as f64;
+                let (c, s) = (0.4 * a.cos(), 0.4 * a.sin());
+                [0, 1, 2].map(|k| p[k] + c * normal[k] + s * binormal[k])
+            })
+        })
+        .collect();
+    for i in 0..n {
+        b.strip(m, rings[i], rings[(i + 1) % n]);
+    }
+    b.rounded_to_decimals(6)
+}
+
+/// [`knot`] with about `triangles` triangles (`n = 8 m`).
+pub fn knot_of(triangles: usize) -> Builder {
+    let m = ((triangles as f64 / 16.0).sqrt().round() as usize).max(3);
+    knot(8 * m, m)
+}
+
 impl Builder {
     /// The mesh as `wmslice` holds it (exact `f64` of the `f32` values).
     pub fn to_mesh(&self) -> wmslice::Mesh {
-        let pos = self.pos.iter().map(|p| p.map(f64::from)).collect();
-        wmslice::Mesh::from_raw(pos, self.tris.clone())
+        wmslice::Mesh::from_raw(self.pos.clone(), self.tris.clone())
     }
 }

@@ -32,6 +32,28 @@ def read_binary_stl(path):
     return data["v"]
 
 
+def read_obj(path):
+    """Vertices (float64, as written) and triangles (0-based) of an OBJ of
+    `v x y z` and `f i j k` lines."""
+    verts, faces = [], []
+    with open(path) as f:
+        for line in f:
+            if line.startswith("v "):
+                verts.append(line[2:])
+            elif line.startswith("f "):
+                faces.append(line[2:])
+    v = np.array(" ".join(verts).split(), dtype=np.float64).reshape(-1, 3)
+    t = np.array(" ".join(faces).split(), dtype=np.int64).reshape(-1, 3) - 1
+    return v, t.astype(np.uint32)
+
+
+def load(path):
+    """Vertices and faces: OBJ as written, binary STL welded."""
+    if path.endswith(".obj"):
+        return read_obj(path)
+    return weld(read_binary_stl(path))
+
+
 def weld(soup):
     """Vertices and faces, merging exactly equal float32 points."""
     flat = np.ascontiguousarray(soup.reshape(-1, 3))
@@ -44,10 +66,11 @@ def run_manifold(path, levels):
     from manifold3d import Manifold, Mesh
 
     t = time.perf_counter()
-    verts, faces = weld(read_binary_stl(path))
+    verts, faces = load(path)
     load_s = time.perf_counter() - t
     t = time.perf_counter()
-    m = Manifold(Mesh(vert_properties=np.ascontiguousarray(verts), tri_verts=faces))
+    # manifold3d's Mesh holds float32 (an f64 OBJ is rounded to it).
+    m = Manifold(Mesh(vert_properties=np.ascontiguousarray(verts, dtype=np.float32), tri_verts=faces))
     status = str(m.status())
     tris = m.num_tri()
     build_s = time.perf_counter() - t

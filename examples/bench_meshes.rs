@@ -5,9 +5,12 @@
 //! cargo run --release --example bench_meshes -- OUT_DIR 200k 1m
 //! ```
 //!
-//! Writes `torus_<size>.stl` and `steps_<size>.stl`. Sizes: `200k` and
-//! `1m` (about 200 000 and 1 000 000 triangles), or a number of triangles
-//! (`50000`).
+//! Writes `torus_<size>.stl` and `steps_<size>.stl` (on one small binary
+//! grid), and the classes with real coordinate patterns:
+//! `torus0_<size>.stl` (centred at the origin, `f32` noise near zero),
+//! `knot_<size>.obj` (six decimals) and `steps64_<size>.obj` (`f64`,
+//! turned: CAD-like). Sizes: `200k` and `1m` (about 200 000 and 1 000 000
+//! triangles), or a number of triangles (`50000`).
 
 #[path = "../bench/meshgen.rs"]
 #[allow(dead_code)] // the criterion benches use the rest
@@ -34,19 +37,27 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     std::fs::create_dir_all(dir)?;
     for label in &args[1..] {
         let target = parse_size(label).ok_or(format!("bad size {label}"))?;
-        for (name, mesh) in [
-            ("torus", meshgen::torus_of(target)),
-            ("steps", meshgen::steps_of(target)),
+        for (name, mesh, ext) in [
+            ("torus", meshgen::torus_of(target), "stl"),
+            ("steps", meshgen::steps_of(target), "stl"),
+            ("torus0", meshgen::torus_origin_of(target), "stl"),
+            ("knot", meshgen::knot_of(target), "obj"),
+            ("steps64", meshgen::steps_f64_of(target), "obj"),
         ] {
             let stem = format!("{name}_{}", label.to_ascii_lowercase());
-            mesh.write_stl(&dir.join(format!("{stem}.stl")))?;
+            let path = dir.join(format!("{stem}.{ext}"));
+            match (ext, name) {
+                ("stl", _) => mesh.write_stl(&path)?,
+                (_, "knot") => mesh.write_obj(&path, Some(6))?,
+                _ => mesh.write_obj(&path, None)?,
+            }
             let (lo, hi) = mesh.z_range();
             let meta = format!(
-                "{{\"name\": \"{stem}\", \"triangles\": {}, \"vertices\": {}, \"zmin\": {:?}, \"zmax\": {:?}}}\n",
+                "{{\"name\": \"{stem}\", \"file\": \"{stem}.{ext}\", \"triangles\": {}, \"vertices\": {}, \"zmin\": {:?}, \"zmax\": {:?}}}\n",
                 mesh.tris.len(),
                 mesh.pos.len(),
-                lo as f64,
-                hi as f64
+                lo,
+                hi
             );
             std::fs::write(dir.join(format!("{stem}.json")), &meta)?;
             print!("{meta}");

@@ -1,5 +1,7 @@
 //! How the cost grows with triangles and with layers: builds the
-//! benchmark shapes of `bench/compare` (`bench/meshgen.rs`) in memory at
+//! benchmark shapes of `bench/compare` (`bench/meshgen.rs`: on one small
+//! grid, `torus` and `steps`; with real coordinate patterns, `torus0`,
+//! `knot` and `steps64`) in memory at
 //! 0.1 M to 10 M triangles, times validation + topology and the layer sweep,
 //! and prints a Markdown table with the cost per triangle and per output
 //! point:
@@ -26,17 +28,17 @@ const SIZES: [usize; 7] = [
 const LAYER_COUNTS: [usize; 4] = [10, 100, 1000, 4000];
 
 /// The plan `bench/compare` uses: `layers` levels over the shape's height.
-fn plan(shape: &str, lo: f32, hi: f32, layers: usize) -> (Rat, Rat) {
-    if shape == "steps" {
+fn plan(shape: &str, lo: f64, hi: f64, layers: usize) -> (Rat, Rat) {
+    if shape.starts_with("steps") {
         let h = Rat::new(125.into(), layers.into());
         return (h.clone(), h);
     }
-    let span = f64::from(hi) - f64::from(lo);
+    let span = hi - lo;
     let h = Rat::new(
         ((span / layers as f64 * 10000.0) as i64).into(),
         10000.into(),
     );
-    let first = Rat::new(((f64::from(lo) * 1000.0).ceil() as i64).into(), 1000.into())
+    let first = Rat::new(((lo * 1000.0).ceil() as i64).into(), 1000.into())
         + &h / Rat::from_integer(2.into());
     (first, h)
 }
@@ -66,7 +68,7 @@ fn measure(
     let (lo, hi) = b.z_range();
     let (first, height) = plan(shape, lo, hi, layers);
     let last = &first + &height * Rat::from_integer((layers - 1).into());
-    let range = (rat_from_f64(lo.into()), rat_from_f64(hi.into()));
+    let range = (rat_from_f64(lo), rat_from_f64(hi));
     let plan = LayerPlan {
         height,
         first: Some(first),
@@ -119,12 +121,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             per(r.slice_s, r.points.max(1) as f64),
         );
     };
-    for shape in ["torus", "steps"] {
+    // The two shapes on one small grid, then the classes with real
+    // coordinate patterns (bench/meshgen.rs).
+    for shape in ["torus", "steps", "torus0", "knot", "steps64"] {
         for &n in SIZES.iter().filter(|&&n| n <= max) {
-            let b = if shape == "torus" {
-                meshgen::torus_of(n)
-            } else {
-                meshgen::steps_of(n)
+            let b = match shape {
+                "torus" => meshgen::torus_of(n),
+                "steps" => meshgen::steps_of(n),
+                "torus0" => meshgen::torus_origin_of(n),
+                "knot" => meshgen::knot_of(n),
+                _ => meshgen::steps_f64_of(n),
             };
             print(&measure(shape, &b, 100, threads)?);
             if n == 1_000_000 {

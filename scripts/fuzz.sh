@@ -2,7 +2,8 @@
 # Usage: scripts/fuzz.sh [SECONDS]   (default 60 seconds per target)
 #
 # Builds and runs every cargo-fuzz target of fuzz/ for SECONDS each:
-# the parsers (parse_*), slice_invariants, and slice_oracle when the CGAL,
+# the parsers (parse_*), slice_invariants, adversarial (slivers, overlapping
+# and touching copies, f32 rounding, 2^k scales), and slice_oracle when the CGAL,
 # GMP, MPFR and Boost headers are present. Each run starts from the seeds
 # in fuzz/corpus/seeds/TARGET and grows a scratch corpus in
 # fuzz/corpus/scratch/TARGET (gitignored; kept between runs). Logs go to
@@ -48,7 +49,7 @@ parser_flags=(--sanitizer "$sanitizer")
 # Their own target dir keeps both builds cached.
 slice_flags=(--sanitizer "$sanitizer" --no-trace-compares --debug-assertions
   --target-dir "$root/fuzz/target/slice")
-slices=(slice_invariants)
+slices=(slice_invariants adversarial)
 if [ "$have_cgal" = 1 ]; then
   slice_flags+=(--features cgal-oracle)
   slices+=(slice_oracle)

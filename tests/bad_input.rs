@@ -127,6 +127,10 @@ fn rows() -> Vec<Row> {
         [0, 3, 2],
         [1, 2, 3],
     ];
+    // Vertex 4 at vertex 0's position: faces 1 and 2 are degenerate and no
+    // flip removes them.
+    let mut coincident_pos = zero_pos.clone();
+    coincident_pos[4] = coincident_pos[0];
     let good_stl = binary_stl(4, &tetra_corners());
     let mut nan_stl = tetra_corners();
     nan_stl[5][2] = f32::NAN;
@@ -194,25 +198,21 @@ fn rows() -> Vec<Row> {
             3,
             "face f4 duplicates face f2",
         ),
-        // A zero-area face at a T-junction: face 0 holds the whole
-        // segment v0-v1, faces 2 and 3 hold its halves and share one
-        // vertex each with face 0 (SPEC 1: they meet outside what they
-        // share). Still named as a zero-area face by check.
         row(
-            "zero-area face at a T-junction (its neighbours meet outside shared elements)",
+            "degenerate face (flipped away, noted by check)",
             "zero_area.off",
             off(&zero_pos, &zero_faces),
             Run::Check,
-            3,
-            "face f1 has zero area",
+            0,
+            "flipped 1 degenerate faces",
         ),
         row(
-            "zero-area face at a T-junction, sliced",
+            "degenerate face in the plane (flipped away, sliced, verified)",
             "zero_area_sliced.off",
             off(&zero_pos, &zero_faces),
             Run::Slice("0"),
-            3,
-            "error: faces f0 and f2 intersect",
+            0,
+            "",
         ),
         // The tetrahedron and a copy shifted by 1/4 on every axis, with
         // their own vertex ids: the first's faces in x = 0, y = 0, z = 0
@@ -245,6 +245,14 @@ fn rows() -> Vec<Row> {
             s,
             3,
             "error: faces f0 and f4 intersect",
+        ),
+        row(
+            "degenerate face with coincident vertices (refused)",
+            "coincident.off",
+            off(&coincident_pos, &zero_faces),
+            s,
+            3,
+            "face f1 is degenerate (its vertices are collinear): vertices",
         ),
         row(
             "OBJ index out of range",

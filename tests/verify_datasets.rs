@@ -123,6 +123,11 @@ proptest! {
                 prop_assert!(!r.passed(), "deleting loop {l} of list {f} at {c} passed");
                 let mut doc = clean.clone();
                 let lp = &mut loop_lists(&mut doc)[f][l];
+                // A collapsed limit (around an extremum, along a ridge and
+                // back) may read the same both ways.
+                if reads_the_same_reversed(lp.get_mut("on").unwrap().as_array_mut().unwrap()) {
+                    continue;
+                }
                 for k in ["points", "exact", "on"] {
                     lp.get_mut(k).unwrap().as_array_mut().unwrap().reverse();
                 }
@@ -131,4 +136,13 @@ proptest! {
             }
         }
     }
+}
+
+/// Whether a cyclic sequence reversed is one of its rotations (a limit
+/// collapsed onto a point, or onto a path it runs along and back).
+fn reads_the_same_reversed(on: &[wmslice::verify::json::Value]) -> bool {
+    let text: Vec<String> = on.iter().map(|v| v.to_json()).collect();
+    let mut back = text.clone();
+    back.reverse();
+    (0..text.len()).any(|r| back[r..].iter().chain(&back[..r]).eq(text.iter())) || text.is_empty()
 }

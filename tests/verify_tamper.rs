@@ -513,7 +513,13 @@ fn every_dataset_catches_reversed_deleted_and_shortened_loops_and_moved_rounding
                     ];
                     for (what, mutate) in mutations {
                         let mut doc = clean.clone();
-                        mutate(&mut family_mut(level(&mut doc, 0), &path)[l]);
+                        let lp = &mut family_mut(level(&mut doc, 0), &path)[l];
+                        // A collapsed limit (around an extremum, along a
+                        // ridge and back) may read the same both ways.
+                        if what == "reverse" && reads_the_same_reversed(list(lp, "on")) {
+                            continue;
+                        }
+                        mutate(lp);
                         let r = verify(&mesh, None, &doc.to_json()).unwrap();
                         assert!(
                             !r.passed(),
@@ -522,14 +528,16 @@ fn every_dataset_catches_reversed_deleted_and_shortened_loops_and_moved_rounding
                         );
                         tried += 1;
                     }
-                    // Deleting the loop leaves its pieces missing.
+                    // Deleting the loop leaves its pieces missing (or, for
+                    // a limit collapsed to one point, the loop itself).
                     let mut doc = clean.clone();
                     family_mut(level(&mut doc, 0), &path).remove(l);
                     let r = verify(&mesh, None, &doc.to_json()).unwrap();
                     assert!(
-                        r.violations
-                            .iter()
-                            .any(|v| matches!(v.problem, Problem::Missing { .. })),
+                        r.violations.iter().any(|v| matches!(
+                            v.problem,
+                            Problem::Missing { .. } | Problem::LimitLoopMissing { .. }
+                        )),
                         "{} at {z}: deleting {name}[{l}] is not caught as missing pieces",
                         d.name
                     );
@@ -538,4 +546,13 @@ fn every_dataset_catches_reversed_deleted_and_shortened_loops_and_moved_rounding
         }
     }
     assert!(tried > 100, "{tried}");
+}
+
+/// Whether a cyclic sequence reversed is one of its rotations (a limit
+/// collapsed onto a point, or onto a path it runs along and back).
+fn reads_the_same_reversed(on: &[wmslice::verify::json::Value]) -> bool {
+    let text: Vec<String> = on.iter().map(|v| v.to_json()).collect();
+    let mut back = text.clone();
+    back.reverse();
+    (0..text.len()).any(|r| back[r..].iter().chain(&back[..r]).eq(text.iter())) || text.is_empty()
 }

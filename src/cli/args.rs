@@ -154,6 +154,10 @@ pub struct SliceArgs {
     /// No progress output.
     #[arg(long)]
     pub quiet: bool,
+    /// After slicing, print to stderr how many loop points took each
+    /// number path (grid, per-edge, certified, big): explains a slow run.
+    #[arg(long)]
+    pub verbose: bool,
     /// Which loops go to CLI output.
     #[arg(long, value_enum, default_value_t = LoopSide::Below)]
     pub side: LoopSide,

@@ -1,5 +1,10 @@
 //! Input: a mesh argument (a file or a built-in dataset name) and an
 //! optional snap grid. Output: the mesh to slice, with notes for the user.
+//!
+//! Every command that loads a mesh (check, slice, verify) takes it through
+//! the same steps: read, snap when asked, then remove degenerate faces by
+//! edge flips (SPEC 1; `wmslice::mesh::flip`), so that the mesh hash in a
+//! result and the one `verify` computes are those of the mesh as sliced.
 
 use super::{ExitCode, Failure, Tag};
 use anyhow::anyhow;
@@ -7,8 +12,9 @@ use std::path::Path;
 use wmslice::datasets;
 use wmslice::exact::parse_rational;
 use wmslice::exact::rational::{rat_to_f64, rat_to_string, Rat};
+use wmslice::mesh::flip::Flip;
 use wmslice::mesh::io::{load_bytes, MeshFormat};
-use wmslice::mesh::snap::snap;
+use wmslice::mesh::prepare::{prepare, SnapStats};
 use wmslice::Mesh;
 
 /// A mesh as given on the command line: a file, or a built-in dataset.
@@ -17,12 +23,38 @@ pub struct Input {
     pub mesh: Mesh,
     /// The snap grid, if any.
     pub unit: Option<Rat>,
+    /// What snapping did, if snapped.
+    pub snap: Option<SnapStats>,
     /// What loading did, for the user.
     pub notes: Vec<String>,
     /// The bytes of the input file (empty for a built-in dataset).
     pub file_bytes: Vec<u8>,
+    /// The edge flips that removed degenerate faces, in the order made.
+    pub flips: Vec<Flip>,
 }
 
+/// At most this many flips are listed in the note; the rest are counted.
+const LISTED_FLIPS: usize = 10;
+
+/// The note on the degenerate faces removed by edge flips.
+fn flips_note(flips: &[Flip]) -> String {
+    let mut listed: Vec<String> = flips
+        .iter()
+        .take(LISTED_FLIPS)
+        .map(|f| f.to_string())
+        .collect();
+    if flips.len() > LISTED_FLIPS {
+        listed.push(format!("and {} more", flips.len() - LISTED_FLIPS));
+    }
+    format!(
+        "flipped {} degenerate faces (a vertex inside the opposite edge; the surface does not move): {}",
+        flips.len(),
+        listed.join(", ")
+    )
+}
+
+/// Reads the mesh, snaps it when asked and removes degenerate faces
+/// ([`wmslice::mesh::prepare`]), with notes for the user.
 pub fn load_input(spec: &str, snap_arg: Option<&str>) -> Result<Input, Failure> {
     let path = Path::new(spec);
     let mut notes = Vec::new();
@@ -48,30 +80,29 @@ pub fn load_input(spec: &str, snap_arg: Option<&str>) -> Result<Input, Failure> 
             error: anyhow!("no such file or built-in dataset: {spec} (see `wmslice gen --list`)"),
         });
     };
-    match snap_arg {
-        None => Ok(Input {
-            mesh,
-            unit: None,
-            notes,
-            file_bytes,
-        }),
-        Some(q) => {
-            let q = parse_rational(q).tag(ExitCode::Usage)?;
-            let s = snap(&mesh, &q).tag(ExitCode::InvalidMesh)?;
-            notes.push(format!(
-                "snapped to grid {}: {} vertices moved, largest coordinate move {} (~{}), {} vertices merged",
-                rat_to_string(&q),
-                s.moved,
-                rat_to_string(&s.max_move),
-                rat_to_f64(&s.max_move),
-                s.merged
-            ));
-            Ok(Input {
-                mesh: s.mesh,
-                unit: Some(s.unit),
-                notes,
-                file_bytes,
-            })
-        }
+    let q = snap_arg
+        .map(|q| parse_rational(q).tag(ExitCode::Usage))
+        .transpose()?;
+    let p = prepare(mesh, q.as_ref()).tag(ExitCode::InvalidMesh)?;
+    if let Some(s) = &p.snap {
+        notes.push(format!(
+            "snapped to grid {}: {} vertices moved, largest coordinate move {} (~{}), {} vertices merged",
+            rat_to_string(&s.grid),
+            s.moved,
+            rat_to_string(&s.max_move),
+            rat_to_f64(&s.max_move),
+            s.merged
+        ));
     }
+    if !p.flips.is_empty() {
+        notes.push(flips_note(&p.flips));
+    }
+    Ok(Input {
+        mesh: p.mesh,
+        unit: p.unit,
+        snap: p.snap,
+        notes,
+        file_bytes,
+        flips: p.flips,
+    })
 }

@@ -7,10 +7,12 @@ use super::{emit, slice_error, usage, ExitCode, Failure, Tag};
 use anyhow::anyhow;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::{IsTerminal, Write};
+use wmslice::exact::crossing::{path_counts, NumberPath};
 use wmslice::exact::parse_rational;
-use wmslice::exact::rational::rat_from_f64;
 use wmslice::exact::rational::{rat_to_f64, rat_to_string, Rat};
-use wmslice::layers::{plan_levels, slice_plan_then, LayerPlan, SweepError, SweepPlan};
+use wmslice::layers::{
+    height_range, plan_levels, slice_plan_then, LayerPlan, SweepError, SweepPlan,
+};
 use wmslice::naive::naive_slice;
 use wmslice::output::atomic::AtomicFile;
 use wmslice::output::json::{level_text, to_json, Exactness, JsonWriter, MeshHeader};
@@ -54,14 +56,6 @@ fn parse_uniform(a: &SliceArgs) -> Result<Option<LayerPlan>, Failure> {
             last: exact("--last", &a.last)?,
         }),
     })
-}
-
-/// The exact height range of the mesh, in true units.
-fn z_range(input: &Input, unit: &Rat) -> (Rat, Rat) {
-    let zs = input.mesh.positions.iter().map(|p| p[2]);
-    let lo = zs.clone().fold(f64::INFINITY, f64::min);
-    let hi = zs.fold(f64::NEG_INFINITY, f64::max);
-    (rat_from_f64(lo) * unit, rat_from_f64(hi) * unit)
 }
 
 /// Where streamed output goes.
@@ -182,7 +176,7 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
         .unit
         .clone()
         .unwrap_or_else(|| Rat::from_integer(1.into()));
-    let (lo, hi) = z_range(&input, &unit);
+    let (lo, hi) = height_range(&input.mesh, &unit);
     let levels =
         plan_levels(uniform.as_ref(), &explicit, (&lo, &hi)).map_err(|e| usage(e.to_string()))?;
     if a.naive {
@@ -243,7 +237,9 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
             }
         };
         bar.finish_and_clear();
-        return sink.close().map_err(output_error);
+        sink.close().map_err(output_error)?;
+        report_paths(&a);
+        return Ok(());
     }
     let mut sets: Vec<LevelSet> = Vec::with_capacity(levels.len());
     let keep = |_: usize, ls: LevelSet| ls;
@@ -254,6 +250,7 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
     })
     .map_err(sweep_error)?;
     bar.finish_and_clear();
+    report_paths(&a);
     let text = match a.format {
         Format::Svg | Format::Html | Format::Cli | Format::CliBinary => {
             if a.certificate.is_some() {
@@ -272,6 +269,19 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
     match &a.certificate {
         Some(path) => super::certificate::write(path, &a, &input, &levels, &sets, text.as_bytes()),
         None => Ok(()),
+    }
+}
+
+/// With `--verbose`: how many loop points took each number path.
+fn report_paths(a: &SliceArgs) {
+    if a.verbose {
+        let counts = path_counts();
+        let text: Vec<String> = NumberPath::ALL
+            .iter()
+            .zip(counts)
+            .map(|(p, n)| format!("{} {n}", p.name()))
+            .collect();
+        eprintln!("number paths (loop points): {}", text.join(", "));
     }
 }
 

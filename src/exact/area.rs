@@ -94,6 +94,64 @@ impl ExactPoint for LoopPoint {
     }
 }
 
+/// The signed area of a closed polygon from the nearest doubles `q` of its
+/// exact points, when a certified bound shows its sign; `None` otherwise
+/// (the caller then rounds the exact area).
+///
+/// The shoelace is taken relative to the first point,
+/// `2A = sum_i D_i x D_{i+1}` with `D_i = q_i - q_0` in doubles, so that the
+/// error scales with the loop's own size, not with its distance from the
+/// origin. With `u = 2^-53`, `m` the largest coordinate magnitude, `d` the
+/// largest `|D_i|` coordinate and `T = sum |Dx_i Dy_{i+1}| + |Dy_i Dx_{i+1}|`:
+/// each exact `p_i` is within `u |q_i|` of `q_i` per coordinate (nearest
+/// rounding), and each `D_i` within `u |D_i|` of `q_i - q_0`, so
+/// `D_i = P_i + E_i` (`P_i = p_i - p_0`) with
+/// `|E_i| <= e = u (2m + 1.01 d) + 2^-1073` (the last term for subnormal
+/// roundings). Then `|D_i x D_{i+1} - P_i x P_{i+1}| <= 4 e (d + e) + 2 e^2`,
+/// and evaluating the sum of the `2n` products in doubles adds at most
+/// `gamma_{2n+2} T` (`gamma_k = k u / (1 - k u)`) plus `2n 2^-1074` for
+/// underflows. So
+///
+/// `|computed area - exact area| <= (n (4 e (d + e) + 2 e^2) + gamma_{2n+2} T) / 2 + n 2^-1074`,
+///
+/// about `n u d (4m + 3d)`: relative to the loop's size `d` times its
+/// distance `m` from the origin, never `m^2`. The bound itself is evaluated
+/// in doubles with a relative margin of `2^-20` (it has fewer than `3n + 20`
+/// roundings, each below `u`). Coordinates must lie within `2^500` and
+/// `n < 2^20`, so nothing overflows; else `None`.
+pub fn rounded_area(q: &[[f64; 2]]) -> Option<f64> {
+    const U: f64 = f64::EPSILON / 2.0;
+    let n = q.len();
+    if n < 3 {
+        return Some(0.0);
+    }
+    let limit = f64::from_bits((1023 + 500) << 52);
+    if n >= 1 << 20 || !q.iter().flatten().all(|v| v.abs() <= limit) {
+        return None;
+    }
+    let [x0, y0] = q[0];
+    let (mut m, mut d) = (0.0f64, 0.0f64);
+    let (mut twice, mut magnitude) = (0.0f64, 0.0f64);
+    let mut prev = [0.0, 0.0];
+    for p in q.iter().skip(1).chain(std::iter::once(&q[0])) {
+        let cur = [p[0] - x0, p[1] - y0];
+        m = m.max(p[0].abs()).max(p[1].abs());
+        d = d.max(cur[0].abs()).max(cur[1].abs());
+        let (a, b) = (prev[0] * cur[1], prev[1] * cur[0]);
+        twice += a - b;
+        magnitude += a.abs() + b.abs();
+        prev = cur;
+    }
+    let tiny = f64::from_bits(1); // 2^-1074
+    let e = U * (2.0 * m + 1.01 * d) + 2.0 * tiny;
+    let k = (2 * n + 2) as f64 * U;
+    let gamma = k / (1.0 - k);
+    let nf = n as f64;
+    let bound = (nf * (4.0 * e * (d + e) + 2.0 * e * e) + gamma * magnitude + 4.0 * nf * tiny)
+        * (1.0 + f64::from_bits((1023 - 20) << 52));
+    (twice.abs() > bound && twice.is_finite()).then_some(twice / 2.0)
+}
+
 /// Exact signed area of a closed polygon (shoelace): positive when
 /// counter-clockwise. Exact for any rational points; equal to
 /// [`signed_area_reference`] (property-tested).
@@ -291,6 +349,8 @@ pub fn signed_area_reference(points: &[Point2]) -> Rat {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::exact::rational::rat_from_f64;
+    use crate::exact::Sign;
 
     /// `((p, q), (r, s))` is the point `(p/q, r/s)`.
     type Frac2 = ((i64, i64), (i64, i64));
@@ -400,5 +460,52 @@ mod tests {
         // A degenerate (collinear) polygon with big denominators is zero.
         let line = poly(&[((1, 7), (1, 7)), ((2, 9), (2, 9)), ((5, 11), (5, 11))]);
         assert!(signed_area(&line).is_zero());
+    }
+
+    proptest::proptest! {
+        /// The rounded area, when given, has the exact sign and lies within
+        /// the stated bound of the exact area of the (double) points: on
+        /// random polygons anywhere in a wide range, small loops far from
+        /// the origin, and nearly degenerate ones.
+        #[test]
+        fn rounded_area_is_within_its_bound(
+            pts in proptest::collection::vec((-1000i64..1000, -1000i64..1000), 3..40),
+            exp in -60i32..60, offset in -80i32..80, thin in 0u8..3
+        ) {
+            let scale = 2f64.powi(exp);
+            let shift = 2f64.powi(offset) * 3.0;
+            let mut q: Vec<[f64; 2]> = pts.iter().map(|&(x, y)| [x as f64 * scale + shift, y as f64 * scale - shift]).collect();
+            if thin == 1 {
+                // All on one line but one point one unit off.
+                for (i, p) in q.iter_mut().enumerate() {
+                    p[1] = p[0] * 0.5 + if i == 1 { scale } else { 0.0 };
+                }
+            }
+            let exact: Vec<Point2> = q.iter().map(|&[x, y]| Point2 { x: rat_from_f64(x), y: rat_from_f64(y) }).collect();
+            let a = signed_area_reference(&exact);
+            if let Some(v) = rounded_area(&q) {
+                proptest::prop_assert_eq!(Sign::of_rat(&rat_from_f64(v)), Sign::of_rat(&a));
+                // The bound, recomputed in rationals with the same inputs.
+                let u = 2f64.powi(-53);
+                let m = q.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+                let d = q.iter().fold(0.0f64, |d, p| d.max((p[0] - q[0][0]).abs()).max((p[1] - q[0][1]).abs()));
+                let n = q.len() as f64;
+                let e = u * (2.0 * m + 1.01 * d) + 2f64.powi(-1073);
+                let t = 2.0 * n * (d + e) * (d + e);
+                let bound = (n * (4.0 * e * (d + e) + 2.0 * e * e) + (2.0 * n + 2.0) * u * 1.01 * t) / 2.0 + n * 2f64.powi(-1074);
+                let err = (rat_from_f64(v) - &a).abs();
+                proptest::prop_assert!(err <= rat_from_f64(bound * 1.01), "error {} above bound {}", err, bound);
+            }
+        }
+    }
+
+    #[test]
+    fn rounded_area_of_a_small_loop_far_away_is_decided() {
+        // A unit square at 2^40 from the origin: the shoelace about the
+        // origin would lose every bit; about the first point it is exact.
+        let o = 2f64.powi(40);
+        let q = [[o, o], [o + 1.0, o], [o + 1.0, o + 1.0], [o, o + 1.0]];
+        assert_eq!(rounded_area(&q), Some(1.0));
+        assert_eq!(rounded_area(&[[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]]), None);
     }
 }

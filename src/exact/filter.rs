@@ -14,9 +14,9 @@
 //! exact sign; otherwise exact rational arithmetic decides.
 //! Property-tested against the plain rational predicates.
 
+use super::homogeneous;
 use super::point::LoopPoint;
-use super::predicates::{orient2d_rat, Sign};
-use num_traits::Zero;
+use super::predicates::{orient2d_xy, Sign};
 
 /// A closed interval of doubles known to contain an exact value.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -45,6 +45,12 @@ impl Interval {
         }
         let r = m * REL;
         Interval::widen(v - r, v + r)
+    }
+
+    /// A value known exactly.
+    #[inline]
+    fn at(v: f64) -> Interval {
+        Interval { lo: v, hi: v }
     }
 
     #[inline]
@@ -79,6 +85,21 @@ impl Interval {
         let lo = p.iter().copied().fold(f64::INFINITY, f64::min);
         let hi = p.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         Interval::widen(lo, hi)
+    }
+
+    /// The order of the exact values two intervals enclose, when they are
+    /// disjoint or both single values.
+    #[inline]
+    fn cmp_with(self, o: Interval) -> Option<std::cmp::Ordering> {
+        if self.lo == self.hi && o.lo == o.hi {
+            self.lo.partial_cmp(&o.lo)
+        } else if self.hi < o.lo {
+            Some(std::cmp::Ordering::Less)
+        } else if self.lo > o.hi {
+            Some(std::cmp::Ordering::Greater)
+        } else {
+            None
+        }
     }
 
     /// The sign, when the interval decides it (finite and away from zero).
@@ -136,19 +157,20 @@ fn approx_pair(x: i128, y: i128, w: i128, e: i32) -> Option<(f64, f64)> {
     Some((one(x)?, one(y)?))
 }
 
-/// The bits of a point's nearest doubles: equal for equal points (so a
-/// cheap hash key), possibly equal for distinct ones.
-pub type Key = (u64, u64);
-
 /// An exact point with approximations of its coordinates and enclosures
 /// derived from them, computed once: each approximation is exactly zero
 /// when the coordinate is, else within `2^-50` of it relatively when its
-/// magnitude is at least `2^-960`, else NaN (no information).
+/// magnitude is at least `2^-960`, else NaN (no information). A point held
+/// as integers over `w = 1` whose integers are doubles (below `2^53`) and
+/// whose scale `2^e` is exact is its approximation exactly (`is_double`):
+/// its enclosure is that one value, and its predicates are decided on the
+/// doubles (exact predicates, [`super::predicates`]).
 #[derive(Clone, Debug)]
 pub struct FilteredPoint<'a> {
     exact: &'a LoopPoint,
     x: f64,
     y: f64,
+    is_double: bool,
     /// The enclosures derived from `x` and `y` (see `enclose`).
     ix: Interval,
     iy: Interval,
@@ -165,13 +187,18 @@ impl<'a> FilteredPoint<'a> {
     /// Approximates an exact point; its enclosures say nothing (the whole
     /// line) until [`FilteredPoint::enclose`]. Enough for the loop area.
     pub fn approximate(p: &'a LoopPoint) -> Self {
-        let from_integers = p
-            .as_integers()
-            .and_then(|(x, y, w, e)| approx_pair(x, y, w, e));
+        let ints = p.as_integers();
+        let from_integers = ints.and_then(|(x, y, w, e)| approx_pair(x, y, w, e));
+        // Integers below 2^53 convert exactly, and approx_pair's scaling
+        // by 2^e is exact in its range: then the doubles are the point.
+        let is_double = from_integers.is_some()
+            && ints.is_some_and(|(x, y, w, _)| {
+                w == 1 && x.unsigned_abs() <= 1 << 53 && y.unsigned_abs() <= 1 << 53
+            });
         let (x, y) = from_integers.unwrap_or_else(|| {
             // The nearest doubles: within 2^-53 relatively when normal.
             let [x, y] = p.to_f64();
-            let exact = p.exact();
+            let [zero_x, zero_y] = p.zero_coordinates();
             let bounded = |v: f64, zero: bool| {
                 if v == 0.0 && zero {
                     0.0
@@ -181,12 +208,13 @@ impl<'a> FilteredPoint<'a> {
                     f64::NAN
                 }
             };
-            (bounded(x, exact.x.is_zero()), bounded(y, exact.y.is_zero()))
+            (bounded(x, zero_x), bounded(y, zero_y))
         });
         FilteredPoint {
             exact: p,
             x,
             y,
+            is_double,
             ix: Interval::EVERYTHING,
             iy: Interval::EVERYTHING,
         }
@@ -194,27 +222,19 @@ impl<'a> FilteredPoint<'a> {
 
     /// Computes the enclosures from the approximations.
     pub fn enclose(&mut self) {
-        self.ix = Interval::around(self.x);
-        self.iy = Interval::around(self.y);
+        if self.is_double {
+            self.ix = Interval::at(self.x);
+            self.iy = Interval::at(self.y);
+        } else {
+            self.ix = Interval::around(self.x);
+            self.iy = Interval::around(self.y);
+        }
     }
 
     /// Doubles enclosing the exact point: `([x_lo, y_lo], [x_hi, y_hi])`.
     pub fn bounds(&self) -> ([f64; 2], [f64; 2]) {
         let (x, y) = (self.ix, self.iy);
         ([x.lo, y.lo], [x.hi, y.hi])
-    }
-
-    /// The nearest doubles as a hash key (a correctly rounded division
-    /// per coordinate: computed on each call).
-    pub fn key(&self) -> Key {
-        let [x, y] = self.exact.to_f64();
-        ((x + 0.0).to_bits(), (y + 0.0).to_bits())
-    }
-
-    /// Whether the enclosures prove the two points distinct.
-    pub fn disjoint(&self, other: &FilteredPoint<'_>) -> bool {
-        let apart = |a: Interval, b: Interval| a.hi < b.lo || b.hi < a.lo;
-        apart(self.ix, other.ix) || apart(self.iy, other.iy)
     }
 
     /// The exact point.
@@ -225,18 +245,18 @@ impl<'a> FilteredPoint<'a> {
 
 /// Exact comparison of the y coordinates of two points (filtered).
 pub fn cmp_y(a: &FilteredPoint<'_>, b: &FilteredPoint<'_>) -> std::cmp::Ordering {
-    let (ay, by) = (a.iy, b.iy);
-    if ay.hi < by.lo {
-        std::cmp::Ordering::Less
-    } else if ay.lo > by.hi {
-        std::cmp::Ordering::Greater
-    } else {
-        a.exact.exact().y.cmp(&b.exact.exact().y)
-    }
+    a.iy.cmp_with(b.iy)
+        .unwrap_or_else(|| homogeneous::cmp_coordinate(a.exact, b.exact, 1))
+}
+
+/// Exact comparison of the x coordinates of two points (filtered).
+pub fn cmp_x(a: &FilteredPoint<'_>, b: &FilteredPoint<'_>) -> std::cmp::Ordering {
+    a.ix.cmp_with(b.ix)
+        .unwrap_or_else(|| homogeneous::cmp_coordinate(a.exact, b.exact, 0))
 }
 
 /// Exact orientation of three points: the filter when it decides, else the
-/// exact rational determinant.
+/// exact determinant ([`homogeneous::orient`]).
 pub fn orient2d_filtered(
     a: &FilteredPoint<'_>,
     b: &FilteredPoint<'_>,
@@ -246,8 +266,13 @@ pub fn orient2d_filtered(
         b.ix.sub(a.ix)
             .mul(c.iy.sub(a.iy))
             .sub(b.iy.sub(a.iy).mul(c.ix.sub(a.ix)));
-    det.sign()
-        .unwrap_or_else(|| orient2d_rat(&a.exact.exact(), &b.exact.exact(), &c.exact.exact()))
+    det.sign().unwrap_or_else(|| {
+        if a.is_double && b.is_double && c.is_double {
+            orient2d_xy([a.x, a.y, 0.0], [b.x, b.y, 0.0], [c.x, c.y, 0.0])
+        } else {
+            homogeneous::orient(a.exact, b.exact, c.exact)
+        }
+    })
 }
 
 /// A certified estimate of a polygon's signed area.
@@ -339,6 +364,7 @@ fn signed_area_intervals(points: &[FilteredPoint<'_>]) -> AreaEstimate {
 mod tests {
     use super::*;
     use crate::exact::point::Point2;
+    use crate::exact::predicates::orient2d_rat;
     use crate::exact::rational::Rat;
     use proptest::prelude::*;
 
@@ -481,6 +507,33 @@ mod tests {
             let exact: Vec<Point2> = held.iter().map(|p| p.exact().into_owned()).collect();
             prop_assert_eq!(orient2d_filtered(&f[0], &f[1], &f[2]), orient2d_rat(&exact[0], &exact[1], &exact[2]));
             prop_assert_eq!(cmp_y(&f[0], &f[1]), exact[0].y.cmp(&exact[1].y));
+        }
+
+        /// Points that are their doubles (integers over 1, below 2^53, any
+        /// grid exponent): single-value enclosures and the double
+        /// predicates agree with the rationals, on lines and off them.
+        #[test]
+        fn double_points_decide_like_the_rationals(
+            xs in proptest::collection::vec(-(1i128 << 53)..=(1i128 << 53), 6),
+            e in -900i32..900, line in 0u8..3
+        ) {
+            let mut v = xs.clone();
+            if line == 1 {
+                // c on the line through a and b (a + 2 (b - a)), if it fits.
+                let (cx, cy) = (2 * v[2] - v[0], 2 * v[3] - v[1]);
+                if cx.unsigned_abs() <= 1 << 53 && cy.unsigned_abs() <= 1 << 53 {
+                    v[4] = cx;
+                    v[5] = cy;
+                }
+            } else if line == 2 {
+                v[3] = v[1]; // a and b share y
+            }
+            let held: Vec<LoopPoint> = (0..3).map(|i| LoopPoint::from_integers(v[2 * i], v[2 * i + 1], 1, e).unwrap()).collect();
+            let f: Vec<FilteredPoint<'_>> = held.iter().map(FilteredPoint::new).collect();
+            let exact: Vec<Point2> = held.iter().map(|p| p.exact().into_owned()).collect();
+            prop_assert_eq!(orient2d_filtered(&f[0], &f[1], &f[2]), orient2d_rat(&exact[0], &exact[1], &exact[2]));
+            prop_assert_eq!(cmp_y(&f[0], &f[1]), exact[0].y.cmp(&exact[1].y));
+            prop_assert_eq!(cmp_x(&f[0], &f[2]), exact[0].x.cmp(&exact[2].x));
         }
     }
 }

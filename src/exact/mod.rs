@@ -6,14 +6,19 @@
 //! determinant; floats appear only as (exact) inputs and as rounded output.
 
 pub mod area;
+pub mod crossing;
 pub mod dyadic;
 pub mod filter;
 pub mod grid;
+pub mod homogeneous;
 pub mod level;
 pub mod orient_filter;
+pub mod perturbed;
+pub mod planar;
 pub mod point;
 pub mod predicates;
 pub mod rational;
+pub mod scale;
 pub mod volume;
 
 pub use level::Level;

@@ -3,12 +3,15 @@
 //! values kept as integers, built without a gcd or an allocation), and
 //! their rounding for output.
 
+use super::crossing::{certified_crossing, LevelApprox, NumberPath};
 use super::level::Level;
 use super::rational::{decompose, ratio_to_f64};
 use super::rational::{rat_from_f64, rat_to_f64, Rat};
 use num_bigint::BigInt;
-use num_traits::Zero;
+use num_integer::Integer;
+use num_traits::{Signed, ToPrimitive, Zero};
 use std::borrow::Cow;
+use std::sync::Arc;
 
 /// A point of the plane `z = c` with exact rational coordinates.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -40,7 +43,7 @@ impl Point2 {
     pub fn on_edge(a: [f64; 3], b: [f64; 3], level: &Level) -> Self {
         match crossing_i128(a, b, level) {
             Some(h) => h.reduce(),
-            None => Self::on_edge_reference(a, b, level),
+            None => crossing_big(a, b, level),
         }
     }
 
@@ -92,6 +95,89 @@ fn common_ints<const N: usize>(xs: [f64; N]) -> Option<([i128; N], i32)> {
         }
     }
     Some((out, e0))
+}
+
+/// The crossing with big integers: the six coordinates on their common
+/// binary grid `2^e0`, the level `p / q` in its units, then
+/// `x = 2^e0 X / (q dz)` with `X = ax q dz + (bx - ax)(p - q az)`
+/// (likewise `y`), reduced by [`reduce_over`]: a few products and two
+/// small gcds per coordinate, where the rational operations would reduce
+/// after each of them. Equal to [`Point2::on_edge_reference`]
+/// (property-tested over the whole `f64` range).
+fn crossing_big(a: [f64; 3], b: [f64; 3], level: &Level) -> Point2 {
+    let parts = [a[0], a[1], a[2], b[0], b[1], b[2]].map(decompose);
+    let e0 = parts.iter().flatten().map(|&(_, e)| e).min().unwrap_or(0);
+    let int = |p: Option<(i64, i32)>| {
+        p.map_or_else(BigInt::zero, |(m, e)| BigInt::from(m) << (e - e0) as usize)
+    };
+    let [ax, ay, az, bx, by, bz] = parts.map(int);
+    let (p, q) = (level.value().numer().clone(), level.value().denom().clone());
+    let (p, q) = if e0 <= 0 {
+        (p << e0.unsigned_abs() as usize, q)
+    } else {
+        (p, q << e0 as usize)
+    };
+    let mut dz = bz - &az;
+    let s = &p - &q * &az;
+    let qdz = &q * &dz;
+    let mut x = &ax * &qdz + (&bx - &ax) * &s;
+    let mut y = &ay * &qdz + (&by - &ay) * &s;
+    if dz.is_negative() {
+        dz = -dz;
+        x = -x;
+        y = -y;
+    }
+    Point2 {
+        x: reduce_over(x, &q, &dz, e0),
+        y: reduce_over(y, &q, &dz, e0),
+    }
+}
+
+/// `n 2^e / (q d)` in lowest terms (`q, d > 0`). `gcd(n, q d)` is
+/// `g1 g2` with `g1 = gcd(n, q)` and `g2 = gcd(n / g1, d)` (once `n / g1`
+/// and `q / g1` are coprime, a common factor of `n / g1` and `(q / g1) d`
+/// divides `d`); each is one remainder by a number that fits `u128` and a
+/// `u128` gcd. Larger `q` or `d` take one big gcd.
+fn reduce_over(n: BigInt, q: &BigInt, d: &BigInt, e: i32) -> Rat {
+    if n.is_zero() {
+        return Rat::zero();
+    }
+    let small = |v: &BigInt| v.to_u128().filter(|&v| v > 0);
+    let (n, w) = match (small(q), small(d)) {
+        (Some(qs), Some(ds)) => {
+            let rem = |n: &BigInt, m: u128| {
+                (n % BigInt::from(m))
+                    .magnitude()
+                    .to_u128()
+                    .expect("a remainder below m")
+            };
+            let g1 = gcd_u128(rem(&n, qs), qs);
+            let n = n / BigInt::from(g1);
+            let g2 = gcd_u128(rem(&n, ds), ds);
+            let n = n / BigInt::from(g2);
+            (n, BigInt::from(qs / g1) * BigInt::from(ds / g2))
+        }
+        _ => {
+            let w = q * d;
+            let g = n.gcd(&w);
+            (n / &g, w / g)
+        }
+    };
+    // Cancel powers of two between 2^e and the other side.
+    let (n, w) = if e >= 0 {
+        let tz = w
+            .trailing_zeros()
+            .unwrap_or(0)
+            .min(u64::from(e.unsigned_abs()));
+        (n << (u64::from(e.unsigned_abs()) - tz), w >> tz)
+    } else {
+        let tz = n
+            .trailing_zeros()
+            .unwrap_or(0)
+            .min(u64::from(e.unsigned_abs()));
+        (n >> tz, w << (u64::from(e.unsigned_abs()) - tz))
+    };
+    Rat::new_raw(n, w)
 }
 
 /// The gcd: Euclid's `u128` steps until both numbers fit in `u64` (`u128`
@@ -220,8 +306,10 @@ fn crossing_i128(a: [f64; 3], b: [f64; 3], level: &Level) -> Option<Scaled> {
 /// integers `(x 2^e / w, y 2^e / w)` when they fit in `i128` (vertices and
 /// crossings of a mesh on one 62-bit grid, see [`crate::exact::grid`], or
 /// of an edge whose ends span at most 40 bits of one grid, at a level that
-/// is a small fraction), else as reduced rationals. Both forms are exact;
-/// equality is by value.
+/// is a small fraction); else, for a crossing, as its edge and level with
+/// the certified nearest doubles (lazy: the exact value is built only when
+/// asked for, see [`crate::exact::crossing`]); else as reduced rationals.
+/// Every form is exact; equality is by value.
 /// [`LoopPoint::exact`] gives the reduced rationals, [`LoopPoint::to_f64`]
 /// the nearest doubles.
 #[derive(Clone, Debug)]
@@ -230,7 +318,31 @@ pub struct LoopPoint(Repr);
 #[derive(Clone, Debug)]
 enum Repr {
     Scaled(Scaled),
+    Lazy(Lazy),
     Rational(Box<Point2>),
+}
+
+/// The crossing of edge `(a, b)` with `level`, and its nearest doubles.
+#[derive(Clone, Debug)]
+struct Lazy {
+    nearest: [f64; 2],
+    a: [f64; 3],
+    b: [f64; 3],
+    level: Arc<Level>,
+}
+
+impl Lazy {
+    fn exact(&self) -> Point2 {
+        Point2::on_edge(self.a, self.b, &self.level)
+    }
+
+    /// Whether the two are the same edge (either way) at the same level.
+    fn same_recipe(&self, o: &Lazy) -> bool {
+        let level = Arc::ptr_eq(&self.level, &o.level) || self.level.value() == o.level.value();
+        let bits = |p: [f64; 3]| p.map(f64::to_bits);
+        let (a, b, oa, ob) = (bits(self.a), bits(self.b), bits(o.a), bits(o.b));
+        level && ((a, b) == (oa, ob) || (a, b) == (ob, oa))
+    }
 }
 
 impl LoopPoint {
@@ -265,10 +377,53 @@ impl LoopPoint {
         }
     }
 
+    /// The exact crossing of edge `(a, b)` with `level` (`h(a) != h(b)`),
+    /// and the path that built it: integers on the edge's grid when they
+    /// fit `i128`; else, when `approx` (the level's double-double) is given
+    /// and the certified bound decides both nearest doubles, the edge and
+    /// the level kept with those doubles (the exact value built on
+    /// demand); else big rationals. Every path gives the same value.
+    pub fn on_edge_with(
+        a: [f64; 3],
+        b: [f64; 3],
+        level: &Arc<Level>,
+        approx: Option<&LevelApprox>,
+    ) -> (Self, NumberPath) {
+        if let Some(h) = crossing_i128(a, b, level) {
+            return (LoopPoint(Repr::Scaled(h)), NumberPath::Edge);
+        }
+        let lazy = |nearest| {
+            LoopPoint(Repr::Lazy(Lazy {
+                nearest,
+                a,
+                b,
+                level: Arc::clone(level),
+            }))
+        };
+        if let Some(nearest) = approx.and_then(|c| certified_crossing(a, b, c)) {
+            return (lazy(nearest), NumberPath::Certified);
+        }
+        // Undecided (a crossing exactly halfway between two doubles, or
+        // out of the certified range): the exact value decides the
+        // rounding. It is kept only when its doubles would not tell a zero
+        // coordinate (`zero_coordinates`): then it is rebuilt on demand.
+        let exact = crossing_big(a, b, level);
+        let nearest = exact.to_f64();
+        let zeros_told = [(&exact.x, nearest[0]), (&exact.y, nearest[1])]
+            .iter()
+            .all(|(v, f)| v.is_zero() == (*f == 0.0));
+        if zeros_told {
+            (lazy(nearest), NumberPath::Big)
+        } else {
+            (exact.into(), NumberPath::Big)
+        }
+    }
+
     /// The exact point as reduced rationals.
     pub fn exact(&self) -> Cow<'_, Point2> {
         match &self.0 {
             Repr::Scaled(h) => Cow::Owned(h.reduce()),
+            Repr::Lazy(l) => Cow::Owned(l.exact()),
             Repr::Rational(p) => Cow::Borrowed(p),
         }
     }
@@ -277,7 +432,19 @@ impl LoopPoint {
     pub fn to_f64(&self) -> [f64; 2] {
         match &self.0 {
             Repr::Scaled(h) => h.to_f64(),
+            Repr::Lazy(l) => l.nearest,
             Repr::Rational(p) => p.to_f64(),
+        }
+    }
+
+    /// Whether each coordinate is exactly zero (without building the
+    /// exact value).
+    pub fn zero_coordinates(&self) -> [bool; 2] {
+        match &self.0 {
+            Repr::Scaled(h) => [h.x == 0, h.y == 0],
+            // The certified doubles are zero only when both ends' values are.
+            Repr::Lazy(l) => l.nearest.map(|v| v == 0.0),
+            Repr::Rational(p) => [p.x.is_zero(), p.y.is_zero()],
         }
     }
 
@@ -292,7 +459,7 @@ impl LoopPoint {
     pub fn as_integers(&self) -> Option<(i128, i128, i128, i32)> {
         match &self.0 {
             Repr::Scaled(h) => Some((h.x, h.y, h.w, h.e)),
-            Repr::Rational(_) => None,
+            Repr::Lazy(_) | Repr::Rational(_) => None,
         }
     }
 
@@ -312,6 +479,10 @@ impl PartialEq for LoopPoint {
     fn eq(&self, other: &Self) -> bool {
         match (&self.0, &other.0) {
             (Repr::Scaled(a), Repr::Scaled(b)) if a == b => true,
+            // Correct rounding is a function of the value: different
+            // nearest doubles, different points.
+            (Repr::Lazy(a), Repr::Lazy(b)) if a.nearest != b.nearest => false,
+            (Repr::Lazy(a), Repr::Lazy(b)) if a.same_recipe(b) => true,
             _ => self.exact() == other.exact(),
         }
     }
@@ -387,6 +558,52 @@ mod tests {
             proptest::prop_assert_eq!(p.to_f64().map(|v| v + 0.0), [x + 0.0, y + 0.0]);
             proptest::prop_assert!(p == LoopPoint::from(Point2::of_vertex([x, y, z])));
         }
+    }
+
+    /// Every finite double: either sign, normal, subnormal or zero.
+    fn finite() -> proptest::num::f64::Any {
+        use proptest::num::f64::{NEGATIVE, NORMAL, POSITIVE, SUBNORMAL, ZERO};
+        POSITIVE | NEGATIVE | NORMAL | SUBNORMAL | ZERO
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(2048))]
+        /// The big-integer crossing equals the big-rational reference for
+        /// every pair of finite positions (any bit pattern: subnormals,
+        /// huge and tiny values in one edge) and levels that are decimals,
+        /// arbitrary fractions of the span, or arbitrary rationals.
+        #[test]
+        fn big_crossing_equals_the_reference(
+            a in proptest::array::uniform3(finite()),
+            b in proptest::array::uniform3(finite()),
+            small in proptest::array::uniform3(-1000i32..1000), kind in 0u8..3,
+            p in proptest::num::i64::ANY, q in 1i64..i64::MAX,
+        ) {
+            let mut a = a;
+            if kind == 2 {
+                // Near-zero noise beside ordinary values.
+                a = [f64::from(small[0]) * 0.1, 1e-300 * f64::from(small[1]), f64::from(small[2])];
+            }
+            proptest::prop_assume!(a.iter().chain(&b).all(|v| v.is_finite()) && a[2] != b[2]);
+            let (za, zb) = (rat_from_f64(a[2]), rat_from_f64(b[2]));
+            let level = Level::new(match kind {
+                0 => &za + (&zb - &za) * Rat::new((p.unsigned_abs() % q.unsigned_abs()).into(), q.into()),
+                _ => Rat::new(p.into(), q.into()),
+            });
+            let reference = Point2::on_edge_reference(a, b, &level);
+            let fast = crossing_big(a, b, &level);
+            proptest::prop_assert_eq!(fast.x.numer(), reference.x.numer());
+            proptest::prop_assert_eq!(fast.x.denom(), reference.x.denom());
+            proptest::prop_assert_eq!(fast.y.numer(), reference.y.numer());
+            proptest::prop_assert_eq!(fast.y.denom(), reference.y.denom());
+        }
+    }
+
+    #[test]
+    fn loop_points_stay_small() {
+        // The lazy crossing (nearest doubles, edge, level) is no larger
+        // than the integer form: memory per point unchanged (80 bytes).
+        assert!(std::mem::size_of::<LoopPoint>() <= 80);
     }
 
     #[test]

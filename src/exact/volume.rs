@@ -10,6 +10,7 @@
 use super::dyadic::Dyadic;
 use super::predicates::Sign;
 use super::rational::{decompose, Rat};
+use super::scale::{leading_exponent, times_pow2};
 use crate::mesh::Mesh;
 use num_bigint::BigInt;
 use num_traits::Zero;
@@ -92,16 +93,33 @@ pub fn signed_volume(mesh: &Mesh) -> Rat {
 /// The sign of [`signed_volume`] when a floating-point sum decides it,
 /// else `None` (then only the exact sum can tell).
 ///
+/// The volume's sign does not change when every coordinate is multiplied
+/// by one power of two `2^s`. When the largest magnitude `max|x|` lies
+/// outside `[2^-100, 2^100]`, the coordinates are so multiplied, as they
+/// are read, to bring it into `[1, 2)` (exactly: a scale up cannot lose a
+/// bit, and a scale down is taken only as far as keeps the smallest
+/// non-zero magnitude normal), so that meshes at extreme scales (`2^-540`,
+/// `2^1000`) are decided as often as at scale 1. Below, `x` stands for the
+/// scaled coordinates.
+///
 /// Each determinant `a . (b x c)` is computed in `f64` with five roundings
 /// per product `a_i b_j c_k` (error at most `5u/(1-5u)` times the face's
 /// permanent `sum |a_i b_j c_k|`, `u = 2^-53`), and the terms are summed in
 /// any order (error at most `(n-1)u/(1-(n-1)u)` times the sum of their
-/// magnitudes). Underflow adds at most `2^-1074` per product, amplified by
-/// at most `|a|_1 <= 3 max|x|` per face. The sum decides when it exceeds
-/// the bound `6u P + (n+1)u A + (6 max|x| + 3)(n+1) 2^-1074` times 17/16
-/// (the spare covers the rounding of the bound itself and the growth of
-/// the factors for `n < 2^40`). Non-finite coordinates, an overflow, or a
-/// face with an index out of range give `None`.
+/// magnitudes). Underflow: a product whose result is below `2^-1022` may
+/// err by `2^-1075` absolutely besides its relative error (sums and
+/// differences are exact there), so `b_j c_k` and `b_k c_j` add at most
+/// `2^-1074` to `p - q`, which `a_i` multiplies, and `a_i (p - q)` adds
+/// `2^-1075`: at most `(|a|_1 + 3/2) 2^-1074 <= (3 max|x| + 3/2) 2^-1074`
+/// per face, half the term below (the other half covers the growth of
+/// these terms through the later roundings, and the permanent's own
+/// underflow, which enters the bound only times `6u`). The sum decides
+/// when it exceeds the bound `6u P + (n+1)u A + (6 max|x| + 3)(n+1)
+/// 2^-1074` times 17/16 (the spare covers the rounding of the bound itself
+/// and the growth of the factors for `n < 2^40`; the underflow term is at
+/// least `3 2^-1074`, so its own rounding loses at most a sixth of it).
+/// Non-finite coordinates, an overflow, or a face with an index out of
+/// range give `None`.
 pub fn volume_sign_filter(mesh: &Mesh) -> Option<Sign> {
     // The unit roundoff of `f64`, for the certified bound (not a
     // tolerance: a sum the bound does not decide goes to the exact sum).
@@ -110,15 +128,29 @@ pub fn volume_sign_filter(mesh: &Mesh) -> Option<Sign> {
     if n >= 1 << 40 {
         return None;
     }
-    let max_abs = mesh
-        .positions
-        .iter()
-        .flatten()
-        .try_fold(0.0f64, |m, &x| x.is_finite().then(|| m.max(x.abs())))?;
+    // The largest and the smallest non-zero magnitude.
+    let (max_abs, min_abs) =
+        mesh.positions
+            .iter()
+            .flatten()
+            .try_fold((0.0f64, f64::INFINITY), |(hi, lo), &x| {
+                let a = x.abs();
+                x.is_finite()
+                    .then(|| (hi.max(a), if a == 0.0 { lo } else { lo.min(a) }))
+            })?;
+    let s = filter_scale(max_abs, min_abs);
+    let max_abs = times_pow2(max_abs, s);
     // Per face: its determinant, the determinant's magnitude, and its
     // permanent; `None` for a face with an index out of range.
     let face = |tri: &[crate::ids::VertexId; 3]| -> Option<[f64; 3]> {
-        let p = |k: usize| mesh.positions.get(tri[k].idx()).copied();
+        let p = |k: usize| {
+            let v = mesh.positions.get(tri[k].idx()).copied()?;
+            Some(if s == 0 {
+                v
+            } else {
+                v.map(|x| times_pow2(x, s))
+            })
+        };
         let (a, b, c) = (p(0)?, p(1)?, p(2)?);
         let products = [
             [b[1] * c[2], b[2] * c[1]],
@@ -152,6 +184,29 @@ pub fn volume_sign_filter(mesh: &Mesh) -> Option<Sign> {
     } else {
         None
     }
+}
+
+/// The power of two `s` the filter multiplies coordinates by: `0` when
+/// the largest magnitude is within `[2^-100, 2^100]` (or every coordinate
+/// is zero), else the `s` that brings it into `[1, 2)`, but never so far
+/// down that the smallest non-zero magnitude leaves the normal range (a
+/// scale down could then drop bits). Every product `x 2^s` is then exact.
+fn filter_scale(max_abs: f64, min_abs: f64) -> i32 {
+    const LOW: f64 = 1.0 / (1u128 << 100) as f64;
+    const HIGH: f64 = (1u128 << 100) as f64;
+    let Some(top) = leading_exponent(max_abs) else {
+        return 0;
+    };
+    if (LOW..=HIGH).contains(&max_abs) {
+        return 0;
+    }
+    let s = -top;
+    if s > 0 {
+        return s;
+    }
+    // The smallest magnitude times 2^s must stay at or above 2^-1022.
+    let bottom = leading_exponent(min_abs).unwrap_or(top);
+    s.max(-1022 - bottom).min(0)
 }
 
 /// A partial sum of face determinants: `i128` buckets per exponent, and
@@ -277,18 +332,32 @@ mod tests {
 
     #[test]
     fn the_filter_decides_ordinary_meshes() {
-        for e in [-300, -40, 0, 40, 300] {
-            let mut m = tetra(2f64.powi(e), [0.0; 3]);
+        // Every power-of-two scale a double holds: the filter scales the
+        // coordinates back near 1 (exactly), so it still decides.
+        for e in -1074..=1023 {
+            let mut m = tetra(crate::exact::scale::times_pow2(1.0, e), [0.0; 3]);
             assert_eq!(volume_sign_filter(&m), Some(Sign::Positive), "2^{e}");
             m.faces.iter_mut().for_each(|t| t.swap(1, 2));
             assert_eq!(volume_sign_filter(&m), Some(Sign::Negative), "2^{e}");
         }
         for d in crate::datasets::all() {
-            let m = d.build();
-            assert_eq!(volume_sign_filter(&m), Some(Sign::Positive), "{}", d.name);
+            for e in [0, -540, 500, -1000, 1000] {
+                let mut m = d.build();
+                let s = crate::exact::scale::times_pow2(1.0, e);
+                m.positions.iter_mut().flatten().for_each(|x| *x *= s);
+                assert_eq!(
+                    volume_sign_filter(&m),
+                    Some(Sign::Positive),
+                    "{} 2^{e}",
+                    d.name
+                );
+            }
         }
-        // Overflowing products decide nothing.
-        assert_eq!(volume_sign_filter(&tetra(1e200, [0.0; 3])), None);
+        // The largest magnitude beside the smallest: no scale brings both
+        // into range, the products overflow, and nothing is decided.
+        let mut m = tetra(1e300, [0.0; 3]);
+        m.positions[0][0] = f64::from_bits(1);
+        assert_eq!(volume_sign_filter(&m), None);
     }
 
     #[test]

@@ -6,5 +6,5 @@
 pub mod plan;
 pub mod sweep;
 
-pub use plan::{plan_levels, LayerPlan, PlanError};
+pub use plan::{height_range, plan_levels, LayerPlan, PlanError};
 pub use sweep::{slice_levels, slice_levels_then, slice_plan_then, SweepError, SweepPlan};

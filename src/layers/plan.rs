@@ -7,7 +7,8 @@
 //! mid-layer, `z_min + H / 2` (as PrusaSlicer does); the default last plane
 //! is the highest `Z0 + k H` not above `z_max`.
 
-use crate::exact::rational::{rat_to_string, Rat};
+use crate::exact::rational::{rat_from_f64, rat_to_string, Rat};
+use crate::mesh::Mesh;
 use num_traits::{Signed, ToPrimitive};
 
 /// The largest number of levels one plan may hold.
@@ -36,6 +37,17 @@ pub enum PlanError {
     /// Nothing to slice.
     #[error("no levels: give --at Z, --levels-file FILE or --layer-height H")]
     Empty,
+}
+
+/// The exact height range of a mesh's stored vertices (used or not) in true
+/// units (`unit` is the snap grid, else 1): the `z_range` of
+/// [`plan_levels`]. Non-finite heights are skipped (validation refuses
+/// them); a mesh without a finite height gives `(0, 0)`.
+pub fn height_range(mesh: &Mesh, unit: &Rat) -> (Rat, Rat) {
+    let zs = mesh.positions.iter().map(|p| p[2]);
+    let lo = zs.clone().fold(f64::INFINITY, f64::min);
+    let hi = zs.fold(f64::NEG_INFINITY, f64::max);
+    (rat_from_f64(lo) * unit, rat_from_f64(hi) * unit)
 }
 
 /// The levels of a plan: uniform layers (if any) merged with `explicit`,

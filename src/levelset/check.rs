@@ -15,7 +15,7 @@ use crate::mesh::topology::Topology;
 use crate::mesh::Mesh;
 use crate::nest::Role;
 use crate::segment::CutPoint;
-use num_traits::{Signed, Zero};
+use num_traits::{One, Signed, Zero};
 use std::cmp::Ordering;
 use std::collections::{HashMap, HashSet};
 
@@ -87,9 +87,13 @@ pub fn check_level_invariants(mesh: &Mesh, topo: &Topology, ls: &LevelSet) -> Re
     }
 
     // Points lie where their cuts say, exactly.
-    let families: [(&str, &[Loop]); 3] =
-        [("S_O", &ls.contours), ("L-", &ls.below), ("L+", &ls.above)];
-    for (name, loops) in families {
+    let families: [(&str, &[Loop], Option<Rat>); 3] = [
+        ("S_O", &ls.contours, None),
+        ("L-", &ls.below, Some(-Rat::one())),
+        ("L+", &ls.above, Some(Rat::one())),
+    ];
+    for (name, loops, side) in families {
+        let areas: Vec<Rat> = loops.iter().map(|l| signed_area(&l.points)).collect();
         for (i, l) in loops.iter().enumerate() {
             if l.points.len() != l.cuts.len() || l.points.is_empty() {
                 return Err(format!("{name} loop {i} is empty or malformed"));
@@ -102,32 +106,49 @@ pub fn check_level_invariants(mesh: &Mesh, topo: &Topology, ls: &LevelSet) -> Re
                     ));
                 }
             }
-            let area = signed_area(&l.points);
-            if Sign::of_rat(&area) != l.orientation {
+            let area = &areas[i];
+            let rounded: Vec<[f64; 2]> = l.points.iter().map(|p| p.to_f64()).collect();
+            let approx = l.rounded_area(&rounded);
+            if Sign::of_rat(&rat_from_f64(approx)) != Sign::of_rat(area) {
+                return Err(format!(
+                    "{name} loop {i}: rounded area {approx} has the wrong sign"
+                ));
+            }
+            // The orientation at c -/+ epsilon: the first non-zero term of
+            // the area in epsilon, from the crossings, in plain rationals.
+            let sign = match &side {
+                Some(s) if !l.crossings.is_empty() => {
+                    check_limit_cuts(mesh, topo, &ls.level, l)
+                        .map_err(|e| format!("{name} loop {i}: {e}"))?;
+                    let terms = limit_area_terms(mesh, topo, &ls.level, &l.crossings, s);
+                    terms
+                        .iter()
+                        .map(Sign::of_rat)
+                        .find(|&t| t != Sign::Zero)
+                        .unwrap_or(Sign::Zero)
+                }
+                _ => Sign::of_rat(area),
+            };
+            if sign != l.orientation {
                 return Err(format!(
                     "{name} loop {i}: stored orientation is not the exact area's sign"
                 ));
             }
-            if Sign::of_rat(&rat_from_f64(l.area_approx)) != l.orientation {
-                return Err(format!(
-                    "{name} loop {i}: rounded area {} has the wrong sign",
-                    l.area_approx
-                ));
-            }
             let ok = match l.role {
-                Role::Outer => area.is_positive(),
-                Role::Hole => area.is_negative(),
+                Role::Outer => sign == Sign::Positive,
+                Role::Hole => sign == Sign::Negative,
             };
             if !ok {
                 return Err(format!(
-                    "{name} loop {i}: {:?} with area {}",
+                    "{name} loop {i}: {:?} with area {} (sign {sign:?} at c -/+ epsilon)",
                     l.role,
-                    rat_to_string(&area)
+                    rat_to_string(area)
                 ));
             }
         }
-        // One-sided limits may run both ways along an edge (zero-width cracks
-        // and spikes of a weakly simple polygon); S_O never does.
+        check_collapsed(loops, &areas, side.is_some()).map_err(|e| format!("{name}: {e}"))?;
+        // Limits may run both ways along an edge (the two sides of a thin
+        // band); S_O never does.
         no_crossing(loops, name != "S_O").map_err(|e| format!("{name}: {e}"))?;
     }
     for (r, region) in ls.regions.iter().enumerate() {
@@ -144,6 +165,109 @@ pub fn check_level_invariants(mesh: &Mesh, topo: &Topology, ls: &LevelSet) -> Re
                 total, expect
             ));
         }
+    }
+    Ok(())
+}
+
+/// The collapsed flags of a family against the exact limit areas: a loop
+/// is collapsed exactly when a region it bounds (the loop minus its
+/// children, or its parent minus the parent's children) has zero area.
+/// S_O loops never are.
+fn check_collapsed(loops: &[Loop], areas: &[Rat], limits: bool) -> Result<(), String> {
+    let mut region: Vec<Rat> = areas.to_vec();
+    for (i, l) in loops.iter().enumerate() {
+        if let Some(p) = l.parent {
+            region[p] += &areas[i];
+        }
+    }
+    for (i, l) in loops.iter().enumerate() {
+        let zero = |k: usize| region[k].is_zero();
+        let expect = limits && (zero(i) || l.parent.is_some_and(zero));
+        if l.collapsed != expect {
+            return Err(format!(
+                "loop {i} is marked collapsed: {}, but the regions it bounds say {expect}",
+                l.collapsed
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The crossing of edge `e` at `c + s epsilon`: `(p0, d)` with the point
+/// `p0 + epsilon d`, in plain rationals.
+fn moving_crossing(
+    mesh: &Mesh,
+    topo: &Topology,
+    level: &Rat,
+    e: EdgeId,
+    s: &Rat,
+) -> (Point2, Point2) {
+    let [a, b] = topo.edge(e).v.map(|v| mesh.pos(v).map(rat_from_f64));
+    let dz = &b[2] - &a[2];
+    let t = (level - &a[2]) / &dz;
+    let p0 = Point2 {
+        x: &a[0] + (&b[0] - &a[0]) * &t,
+        y: &a[1] + (&b[1] - &a[1]) * &t,
+    };
+    let d = Point2 {
+        x: (&b[0] - &a[0]) * s / &dz,
+        y: (&b[1] - &a[1]) * s / &dz,
+    };
+    (p0, d)
+}
+
+/// The signed area of a loop of crossings at `c + s epsilon` as
+/// `[a0, a1, a2]` (area `a0 + a1 epsilon + a2 epsilon^2`).
+fn limit_area_terms(
+    mesh: &Mesh,
+    topo: &Topology,
+    level: &Rat,
+    crossings: &[EdgeId],
+    s: &Rat,
+) -> [Rat; 3] {
+    let pts: Vec<(Point2, Point2)> = crossings
+        .iter()
+        .map(|&e| moving_crossing(mesh, topo, level, e, s))
+        .collect();
+    let cross = |u: &Point2, v: &Point2| &u.x * &v.y - &u.y * &v.x;
+    let mut t = [Rat::zero(), Rat::zero(), Rat::zero()];
+    let n = pts.len();
+    for i in 0..n {
+        let ((p, dp), (q, dq)) = (&pts[i], &pts[(i + 1) % n]);
+        t[0] += cross(p, q);
+        t[1] += cross(p, dq) + cross(dp, q);
+        t[2] += cross(dp, dq);
+    }
+    let half = Rat::new(1.into(), 2.into());
+    t.map(|x| x * &half)
+}
+
+/// The cuts of a limit loop are its crossings' limits (an edge's end on
+/// the plane, or the edge), consecutive equal ones merged.
+fn check_limit_cuts(mesh: &Mesh, topo: &Topology, level: &Rat, l: &Loop) -> Result<(), String> {
+    let on_plane = |v: crate::ids::VertexId| rat_from_f64(mesh.pos(v)[2]) == *level;
+    let mut merged: Vec<CutPoint> = Vec::new();
+    for &e in &l.crossings {
+        let [a, b] = topo.edge(e).v;
+        let c = if on_plane(a) {
+            CutPoint::AtVertex(a)
+        } else if on_plane(b) {
+            CutPoint::AtVertex(b)
+        } else {
+            CutPoint::OnEdge(e)
+        };
+        if merged.last() != Some(&c) {
+            merged.push(c);
+        }
+    }
+    if merged.len() > 1 && merged.first() == merged.last() {
+        merged.pop();
+    }
+    if merged != l.cuts {
+        return Err(format!(
+            "its cuts {:?} are not the limits of its crossings {:?}",
+            l.cuts, merged
+        ));
     }
     Ok(())
 }

@@ -7,6 +7,7 @@
 //! mesh's units. Rounding happens only in `output`.
 
 pub mod check;
+mod limits;
 pub mod ridges;
 
 use crate::chain::{chain_loops, ChainError};
@@ -14,9 +15,10 @@ use crate::classify::{
     edges::classify_edges, faces::face_regions, vertices::extremum_kind, EdgeClass, ExtremumKind,
     Facing, RidgeKind, Side, Signs,
 };
-use crate::exact::area::{signed_area, total_signed_area};
+use crate::exact::area::{rounded_area, signed_area, total_signed_area};
+use crate::exact::crossing::Crossings;
 use crate::exact::filter::{signed_area_filtered, FilteredPoint};
-use crate::exact::grid::{GridLevel, MeshGrid};
+use crate::exact::grid::MeshGrid;
 use crate::exact::point::LoopPoint;
 use crate::exact::rational::{rat_to_f64, Rat};
 use crate::exact::{Level, Point2, Sign};
@@ -24,10 +26,10 @@ use crate::ids::{EdgeId, FaceId, VertexId};
 use crate::mesh::topology::Topology;
 use crate::mesh::validate::{accept, Report};
 use crate::mesh::Mesh;
-use crate::nest::{nest_filtered, Reversals, Role};
+use crate::nest::{nest, Family, Role};
 use crate::segment::{edge_segments, face_segment, Carrier, CutPoint, Segment, Via};
 use num_traits::One;
-use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
+use rustc_hash::FxHashMap as HashMap;
 use std::sync::Arc;
 
 /// A closed, oriented loop with exact points.
@@ -38,17 +40,22 @@ pub struct Loop {
     /// Exact points, in the mesh's units (held as integers when they
     /// fit; [`LoopPoint::exact`] gives reduced rationals).
     pub points: Vec<LoopPoint>,
-    /// The exact sign of the signed area: positive when counter-clockwise.
+    /// The exact sign of the signed area: positive when counter-clockwise
+    /// (for L- and L+, at `c -/+ epsilon`: see `collapsed`).
     pub orientation: Sign,
-    /// The signed area, rounded: a double within a certified error bound
-    /// of the exact area and of its sign ([`signed_area_filtered`]), or the
-    /// nearest double of the exact area when the bound could not decide
-    /// the sign. The exact area is [`Loop::area`].
-    pub area_approx: f64,
     /// Outer or hole, from the nesting depth in its family.
     pub role: Role,
     /// Index of the smallest enclosing loop of the same family.
     pub parent: Option<usize>,
+    /// L-, L+ only: the loop has collapsed in the limit (SPEC section 6):
+    /// it runs only along ridges or valleys, or around an extremum, so
+    /// the material (or void) it bounds on one side has zero area at the
+    /// level. Its orientation and role are those at `c -/+ epsilon`.
+    pub collapsed: bool,
+    /// L-, L+ at a level with a vertex on the plane: the edges the loop
+    /// crosses at `c -/+ epsilon`, in order (its structure; `cuts` are
+    /// their limits, merged). Empty otherwise.
+    pub crossings: Vec<EdgeId>,
 }
 
 impl Loop {
@@ -56,6 +63,16 @@ impl Loop {
     /// on each call, in time near-linear in the size of the result.
     pub fn area(&self) -> Rat {
         signed_area(&self.points)
+    }
+
+    /// The signed area as a double: from the nearest doubles of the points
+    /// (`rounded`, as [`LoopPoint::to_f64`] gives them), within the
+    /// certified bound of [`rounded_area`] (about `n u d (4m + 3d)` for
+    /// `n` points, loop size `d`, distance `m` from the origin) and of the
+    /// exact sign; where that bound cannot show the sign, the nearest
+    /// double of the exact area. A function of the exact loop alone.
+    pub fn rounded_area(&self, rounded: &[[f64; 2]]) -> f64 {
+        rounded_area(rounded).unwrap_or_else(|| rat_to_f64(&self.area()))
     }
 }
 
@@ -65,16 +82,12 @@ pub fn total_area(loops: &[Loop]) -> Rat {
     total_signed_area(loops.iter().map(|l| l.points.as_slice()))
 }
 
-/// The exact sign of a polygon's area and its rounded value.
-fn orientation_of(filtered: &[FilteredPoint<'_>], points: &[LoopPoint]) -> (Sign, f64) {
-    let estimate = signed_area_filtered(filtered);
-    match estimate.sign {
-        Some(sign) => (sign, estimate.approx),
-        None => {
-            let exact = signed_area(points);
-            (Sign::of_rat(&exact), rat_to_f64(&exact))
-        }
-    }
+/// The exact sign of a polygon's area: filtered, exact when the filter
+/// cannot tell.
+fn orientation_of(filtered: &[FilteredPoint<'_>], points: &[LoopPoint]) -> Sign {
+    signed_area_filtered(filtered)
+        .sign
+        .unwrap_or_else(|| Sign::of_rat(&signed_area(points)))
 }
 
 /// A face region F with its boundary loops dF.
@@ -257,14 +270,11 @@ impl<'m> Slicer<'m> {
         if !self.unit.is_one() {
             let u = &self.unit;
             let u2 = u * u;
+            // The signs are unchanged (u^2 > 0).
             let scale = |l: &mut Loop| {
                 for p in &mut l.points {
                     *p = p.scaled(u);
                 }
-                // The sign is unchanged (u^2 > 0); the rounding is redone.
-                let filtered: Vec<FilteredPoint<'_>> =
-                    l.points.iter().map(FilteredPoint::approximate).collect();
-                l.area_approx = orientation_of(&filtered, &l.points).1;
             };
             let shared = Arc::ptr_eq(&ls.contours, &ls.below);
             Arc::make_mut(&mut ls.contours).iter_mut().for_each(scale);
@@ -297,20 +307,11 @@ pub(crate) fn touches(mesh: &Mesh, f: FaceId, level: &Level) -> bool {
     s.contains(&Sign::Zero) || (s.contains(&Sign::Positive) && s.contains(&Sign::Negative))
 }
 
-/// Which kind of loops are being chained.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Family {
-    /// S_O or dF: segments never run both ways, loops never collapse.
-    Exact,
-    /// L- or L+: regularized limits, where both may happen.
-    OneSided,
-}
-
 struct LevelBuilder<'a> {
     mesh: &'a Mesh,
     topo: &'a Topology,
-    /// The mesh's grid and the level on it, when crossings fit in `i128`.
-    grid: Option<(&'a MeshGrid, GridLevel)>,
+    /// Builds the exact points (on the mesh's grid when it fits).
+    points: Crossings<'a>,
     level: &'a Level,
     signs: Signs<'a>,
     active: &'a [FaceId],
@@ -321,10 +322,7 @@ impl<'a> LevelBuilder<'a> {
         LevelBuilder {
             mesh: slicer.mesh,
             topo: &slicer.topo,
-            grid: slicer
-                .grid
-                .as_ref()
-                .and_then(|g| Some((g, g.level(level)?))),
+            points: Crossings::new(slicer.grid.as_ref(), level),
             level,
             signs: Signs::new(slicer.mesh, level),
             active,
@@ -346,13 +344,11 @@ impl<'a> LevelBuilder<'a> {
 
     /// The exact point of cut point `c`, carried by `[a, b]`.
     fn cut_point(&self, c: CutPoint, [a, b]: Carrier) -> LoopPoint {
-        match (c, &self.grid) {
-            (CutPoint::AtVertex(v), Some((g, _))) => g.point(v),
-            (CutPoint::AtVertex(v), None) => LoopPoint::of_vertex(self.mesh.pos(v)),
-            (CutPoint::OnEdge(_), Some((g, level))) => g.crossing(a, b, level),
-            (CutPoint::OnEdge(_), None) => {
-                LoopPoint::on_edge(self.mesh.pos(a), self.mesh.pos(b), self.level)
-            }
+        match c {
+            CutPoint::AtVertex(v) => self.points.vertex(v, self.mesh.pos(v)),
+            CutPoint::OnEdge(_) => self
+                .points
+                .crossing(a, b, self.mesh.pos(a), self.mesh.pos(b)),
         }
     }
 
@@ -414,7 +410,7 @@ impl<'a> LevelBuilder<'a> {
             carriers.push(self.carrier(s.from));
             segments.push(s);
         }
-        let contours = Arc::new(self.loops_with(&segments, Some(&carriers), Family::Exact)?);
+        let contours = Arc::new(self.loops_with(&segments, Some(&carriers))?);
 
         // Saddles: on-plane vertices with 2m >= 4 S_O branches.
         let mut branches: HashMap<VertexId, u32> = HashMap::default();
@@ -509,74 +505,25 @@ impl<'a> LevelBuilder<'a> {
         Ok(ls)
     }
 
-    /// L- or L+ by symbolic perturbation (SPEC section 6): every crossing
-    /// is strict; a crossing on an edge with an end on the plane sits at
-    /// that end. The limit is then regularized: segments that collapse to a
-    /// point (around an extremum) and pairs that run both ways along one
-    /// edge (zero-width cracks and spikes, e.g. just below a ridge) bound no
-    /// material and are removed; what remains is chained by the vertex rule
-    /// of section 5 and nested. Loops of zero exact area are dropped.
-    fn one_sided(&self, side: Side) -> Result<Vec<Loop>, SliceError> {
-        let perturbed = self.signs.perturbed(side);
-        // A crossing on an edge with an end on the plane sits at that end.
-        let place = |c: CutPoint, [a, b]: Carrier| match c {
-            CutPoint::OnEdge(_) if self.signs.is_zero(a) => (CutPoint::AtVertex(a), [a; 2]),
-            CutPoint::OnEdge(_) if self.signs.is_zero(b) => (CutPoint::AtVertex(b), [b; 2]),
-            c => (c, [a, b]),
-        };
-        let mut placed: Vec<Segment> = Vec::new();
-        let mut carriers: Vec<Carrier> = Vec::new();
-        for &f in self.active {
-            let tri = self.mesh.faces[f.idx()];
-            let s = tri.map(|v| perturbed.of(v));
-            let Some((seg, [start, end])) = face_segment(self.topo, f, tri, s) else {
-                continue;
-            };
-            let (from, start) = place(seg.from, start);
-            let (to, _) = place(seg.to, end);
-            if from != to {
-                placed.push(Segment {
-                    from,
-                    to,
-                    via: seg.via,
-                });
-                carriers.push(start);
-            }
-        }
-        // Only a segment between two vertices can have a reverse: a
-        // crossing strictly inside an edge is an end of the two segments
-        // of that edge's faces, which share no other element there.
-        let between_vertices = |s: &Segment| {
-            matches!(
-                (s.from, s.to),
-                (CutPoint::AtVertex(_), CutPoint::AtVertex(_))
-            )
-        };
-        let index: HashSet<(CutPoint, CutPoint)> = placed
-            .iter()
-            .filter(|s| between_vertices(s))
-            .map(|s| (s.from, s.to))
-            .collect();
-        let (kept, kept_carriers): (Vec<Segment>, Vec<Carrier>) = placed
-            .iter()
-            .zip(&carriers)
-            .filter(|(s, _)| !(between_vertices(s) && index.contains(&(s.to, s.from))))
-            .map(|(s, c)| (*s, *c))
-            .unzip();
-        self.loops_with(&kept, Some(&kept_carriers), Family::OneSided)
-    }
-
     fn loops(&self, segments: &[Segment]) -> Result<Vec<Loop>, SliceError> {
-        self.loops_with(segments, None, Family::Exact)
+        self.loops_with(segments, None)
     }
 
-    /// Chains, computes exact points, decides orientations and nests.
-    /// `carriers[i]`, when given, carries the start of `segments[i]`.
+    /// An internal error at this level.
+    fn invariant(&self, what: String) -> SliceError {
+        SliceError::Invariant {
+            level: crate::exact::rational::rat_to_string(self.level.value()),
+            what,
+        }
+    }
+
+    /// Chains S_O or dF segments, computes exact points, decides
+    /// orientations and nests. `carriers[i]`, when given, carries the
+    /// start of `segments[i]`.
     fn loops_with(
         &self,
         segments: &[Segment],
         carriers: Option<&[Carrier]>,
-        family: Family,
     ) -> Result<Vec<Loop>, SliceError> {
         let chains = chain_loops(self.topo, segments)?;
         let start = |i: usize| {
@@ -584,7 +531,7 @@ impl<'a> LevelBuilder<'a> {
             let carrier = carriers.map_or_else(|| self.carrier(c), |k| k[i]);
             (c, self.cut_point(c, carrier))
         };
-        let mut shapes: Vec<(Vec<CutPoint>, Vec<LoopPoint>)> = chains
+        let shapes: Vec<(Vec<CutPoint>, Vec<LoopPoint>)> = chains
             .iter()
             .map(|ch| ch.iter().map(|&i| start(i)).unzip())
             .collect();
@@ -592,39 +539,65 @@ impl<'a> LevelBuilder<'a> {
             .iter()
             .map(|(_, pts)| pts.iter().map(FilteredPoint::approximate).collect())
             .collect();
-        let orientations: Vec<(Sign, f64)> = filtered
+        let orientations: Vec<Sign> = filtered
             .iter()
             .zip(&shapes)
             .map(|(f, (_, pts))| orientation_of(f, pts))
             .collect();
-        let kept: Vec<usize> = (0..shapes.len())
-            .filter(|&i| !(family == Family::OneSided && orientations[i].0 == Sign::Zero))
-            .collect();
-        let mut kept_filtered: Vec<Vec<FilteredPoint<'_>>> = kept
-            .iter()
-            .map(|&i| std::mem::take(&mut filtered[i]))
-            .collect();
-        let reversals = match family {
-            Family::Exact => Reversals::Impossible,
-            Family::OneSided => Reversals::Possible,
+        let nesting = if shapes.len() < 2 {
+            Vec::new()
+        } else {
+            filtered
+                .iter_mut()
+                .flatten()
+                .for_each(FilteredPoint::enclose);
+            let reps = representatives(shapes.iter().map(|(cuts, _)| cuts.as_slice()));
+            nest(&Family {
+                loops: &filtered,
+                orientation: &orientations,
+                representative: &reps,
+            })
         };
-        let nesting = nest_filtered(&mut kept_filtered, reversals);
-        drop((kept_filtered, filtered));
-        let mut loops = Vec::with_capacity(kept.len());
-        for (&i, n) in kept.iter().zip(nesting) {
-            let (cuts, points) = std::mem::take(&mut shapes[i]);
-            let (orientation, area_approx) = orientations[i];
+        drop(filtered);
+        let mut loops = Vec::with_capacity(shapes.len());
+        for (i, (cuts, points)) in shapes.into_iter().enumerate() {
+            let orientation = orientations[i];
+            let (role, parent) = nesting
+                .get(i)
+                .map_or((Role::Outer, None), |n| (n.role, n.parent));
             loops.push(Loop {
                 cuts,
                 points,
                 orientation,
-                area_approx,
-                role: n.role,
-                parent: n.parent,
+                role,
+                parent,
+                collapsed: false,
+                crossings: Vec::new(),
             });
         }
         Ok(loops)
     }
+}
+
+/// For each loop of S_O or dF, a point on no other loop of its family: an
+/// edge crossing (each edge is crossed once), or a vertex no other loop
+/// passes (loops meet only at vertices on the plane, and a segment's
+/// interior, in a face or along an edge, holds no vertex).
+fn representatives<'c>(loops: impl Iterator<Item = &'c [CutPoint]> + Clone) -> Vec<Option<usize>> {
+    let mut count: HashMap<VertexId, u32> = HashMap::default();
+    for c in loops.clone().flatten() {
+        if let CutPoint::AtVertex(v) = c {
+            *count.entry(*v).or_default() += 1;
+        }
+    }
+    loops
+        .map(|cuts| {
+            cuts.iter().position(|c| match c {
+                CutPoint::OnEdge(_) => true,
+                CutPoint::AtVertex(v) => count.get(v) == Some(&1),
+            })
+        })
+        .collect()
 }
 
 /// SPEC 7.3, checked exactly: outer loops of S_O, L- and L+ have positive

@@ -5,8 +5,10 @@
 //! Nothing here rounds: positions are kept as the exact binary floating-point
 //! values the file holds (every finite `f64` is an exact dyadic rational).
 
+pub mod flip;
 pub mod intersect;
 pub mod io;
+pub mod prepare;
 pub mod snap;
 pub mod topology;
 pub mod validate;

@@ -6,9 +6,11 @@
 //! [`Severity::Error`]: closed, every edge in exactly two faces with
 //! opposite directions, every vertex link one cycle, no fold, no
 //! self-intersection, finite coordinates, indices in range, no repeated
-//! vertex in a face, no duplicate face, and exact signed volume > 0.
-//! Zero-area faces and unused vertices are reported as warnings; they stay
-//! sliceable. Every test is exact.
+//! vertex in a face, no duplicate face, no degenerate face (three collinear
+//! vertices: those an edge flip removes are removed before, by
+//! [`crate::mesh::flip`], so one left is named with the reason it could not
+//! be flipped), and exact signed volume > 0. Unused vertices are reported
+//! as warnings. Every test is exact.
 //!
 //! Folds and self-intersections are decided for closed, oriented, manifold
 //! meshes with finite coordinates (the others are rejected already), by
@@ -24,6 +26,7 @@ use crate::exact::predicates::{is_degenerate_triangle, Sign};
 use crate::exact::rational::{rat_to_string, Rat};
 use crate::exact::volume::{signed_volume, volume_sign_filter};
 use crate::ids::{FaceId, VertexId};
+use crate::mesh::flip::{diagnose, Unflippable};
 use crate::mesh::intersect::{edge_overlaps, separate_face_pairs, EdgeOverlap};
 use crate::mesh::topology::{Topology, TopologyIssue, NO_FACE};
 use crate::mesh::Mesh;
@@ -161,11 +164,15 @@ pub enum Defect {
         /// The exact signed volume.
         volume: String,
     },
-    /// A face of zero area (accepted: it stays sliceable).
-    #[error("face {face} has zero area")]
-    ZeroAreaFace {
+    /// A face whose three vertices are collinear (zero area), left after
+    /// the repair by edge flips ([`crate::mesh::flip::repair_degenerate`]),
+    /// with the reason no flip removed it.
+    #[error("face {face} is degenerate (its vertices are collinear): {why}")]
+    DegenerateFace {
         /// The face.
         face: FaceId,
+        /// Why no edge flip removed it.
+        why: Unflippable,
     },
     /// A vertex no face uses (accepted and ignored).
     #[error("vertex {vertex} is not used by any face")]
@@ -187,7 +194,7 @@ impl Defect {
     /// Whether this defect blocks slicing.
     pub fn severity(&self) -> Severity {
         match self {
-            Defect::ZeroAreaFace { .. } | Defect::UnusedVertex { .. } => Severity::Warning,
+            Defect::UnusedVertex { .. } => Severity::Warning,
             _ => Severity::Error,
         }
     }
@@ -362,7 +369,7 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
         .all(|p| p.iter().all(|x| x.is_finite()));
     // The topology's build is the longest chain; the passes that do not
     // need it run beside it.
-    let ((volume, zero_area), (topo, issues)) = par::join(
+    let ((volume, degenerate), (topo, issues)) = par::join(
         parallel,
         || {
             par::join(
@@ -373,7 +380,7 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
                 },
                 || {
                     if finite {
-                        zero_area_faces(mesh)
+                        degenerate_faces(mesh)
                     } else {
                         Vec::new()
                     }
@@ -424,7 +431,10 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
             )
         },
     );
-    for d in zero_area {
+    let degenerate = diagnose(mesh, &degenerate)
+        .into_iter()
+        .map(|(face, why)| Defect::DegenerateFace { face, why });
+    for d in degenerate {
         sink.push(d);
     }
     let mut intersecting = Vec::new();
@@ -604,8 +614,8 @@ fn report_topology_issues(mesh: &Mesh, issues: Vec<TopologyIssue>, sink: &mut Si
     }
 }
 
-/// Faces of zero area, in face order.
-fn zero_area_faces(mesh: &Mesh) -> Vec<Defect> {
+/// Faces of zero area (three collinear vertices), in face order.
+fn degenerate_faces(mesh: &Mesh) -> Vec<FaceId> {
     (0..mesh.num_faces())
         .into_par_iter()
         .with_min_len(par::MIN_LEN)
@@ -613,9 +623,7 @@ fn zero_area_faces(mesh: &Mesh) -> Vec<Defect> {
             let [a, b, c] = mesh.faces[f].map(|v| mesh.pos(v));
             is_degenerate_triangle(a, b, c)
         })
-        .map(|f| Defect::ZeroAreaFace {
-            face: FaceId::from_idx(f),
-        })
+        .map(FaceId::from_idx)
         .collect()
 }
 

@@ -1,19 +1,28 @@
-//! Input: closed loops of exact points that may touch at vertices but never
-//! cross. Output: each loop's role (outer or hole) and parent loop.
+//! Input: closed loops of exact points that never cross (they may touch at
+//! points), each with its exact orientation. Output: each loop's role
+//! (outer or hole) and parent loop.
 //!
-//! Decided exactly (a floating-point filter first, exact rationals when it
-//! cannot decide): each loop's representative point is the midpoint of one
-//! of its segments that no other segment runs back along (so it lies on no
-//! other loop: loops share only vertices, or whole segments run both ways); containment is exact crossing parity. Candidates come from a
-//! uniform grid of rounded bounding boxes widened outward by one ulp, so the
-//! filter never drops a true container and the cost stays near-linear for
-//! many small loops side by side.
+//! Decided exactly, on any point type with exact predicates ([`Planar`]):
+//! plain exact points for S_O and dF, points moving with an infinitesimal
+//! `epsilon` for L- and L+ (whose limits may run along each other).
+//!
+//! Two methods give the same answer. Ray casting: each loop's
+//! representative point (one of its vertices that lies on no other loop)
+//! is tested by exact crossing parity against the loops whose bounding
+//! boxes hold it (found through a uniform grid of boxes); cheap when loops
+//! lie side by side. A plane sweep (`sweep.rs`): `O(n log n)` in
+//! the number of points however deep the nesting. The sweep is taken when
+//! the ray casting's work, counted before it starts, would exceed a few
+//! times the sweep's, or when a loop has no representative.
 
-use crate::exact::filter::{cmp_y, orient2d_filtered, FilteredPoint, Key};
+mod order;
+mod sweep;
+
+use crate::exact::area::signed_area;
+use crate::exact::filter::FilteredPoint;
+use crate::exact::planar::Planar;
 use crate::exact::point::LoopPoint;
-use crate::exact::rational::Rat;
-use crate::exact::{Point2, Sign};
-use rustc_hash::FxHashSet as HashSet;
+use crate::exact::Sign;
 use std::cmp::Ordering;
 
 /// Outer boundary or hole (SPEC section 9 `role`).
@@ -37,20 +46,20 @@ pub struct Nesting {
     pub depth: usize,
 }
 
-/// Whether exact point `r` is strictly inside the closed polygon `poly`
-/// (crossing parity; `r` is never on `poly` where this is used).
-pub fn contains(poly: &[FilteredPoint<'_>], r: &FilteredPoint<'_>) -> bool {
+/// Whether `r` is strictly inside the closed polygon `poly` (crossing
+/// parity, exact; `r` must not lie on `poly`).
+pub fn contains<P: Planar>(poly: &[P], r: &P) -> bool {
     let n = poly.len();
     let mut inside = false;
     for i in 0..n {
         let p = &poly[i];
         let q = &poly[(i + 1) % n];
-        let p_above = cmp_y(p, r) == Ordering::Greater;
-        let q_above = cmp_y(q, r) == Ordering::Greater;
+        let p_above = p.cmp_y(r) == Ordering::Greater;
+        let q_above = q.cmp_y(r) == Ordering::Greater;
         if p_above == q_above {
             continue;
         }
-        let o = orient2d_filtered(p, q, r);
+        let o = P::orient(p, q, r);
         let crosses_right = if q_above {
             o == Sign::Positive
         } else {
@@ -63,48 +72,13 @@ pub fn contains(poly: &[FilteredPoint<'_>], r: &FilteredPoint<'_>) -> bool {
     inside
 }
 
-/// The keys of one loop's points, and of every segment of its family.
-#[derive(Clone, Copy)]
-struct LoopKeys<'k> {
-    points: &'k [Key],
-    family: &'k HashSet<(Key, Key)>,
-}
-
-/// The midpoint of the first segment of `poly` that has non-zero length and
-/// whose reverse is not in the family (one-sided limits may run both ways
-/// along an edge: a crack or spike of zero width); that midpoint lies on no
-/// other loop. Reverses are looked up by the points' nearest doubles
-/// (`keys`, given when reversals are possible), which can only skip more
-/// segments than needed, never fewer; if every segment is skipped, the
-/// first one of non-zero length is used.
-fn representative(poly: &[FilteredPoint<'_>], keys: Option<LoopKeys<'_>>) -> Option<LoopPoint> {
-    let n = poly.len();
-    let ends = |i: usize| (&poly[i], &poly[(i + 1) % n]);
-    let reversed =
-        |i: usize| keys.is_some_and(|k| k.family.contains(&(k.points[(i + 1) % n], k.points[i])));
-    let long = |i: usize| {
-        let (p, q) = ends(i);
-        p.disjoint(q) || p.exact() != q.exact()
-    };
-    let pick = (0..n)
-        .find(|&i| !reversed(i) && long(i))
-        .or_else(|| (0..n).find(|&i| long(i)))?;
-    let (p, q) = ends(pick);
-    let (p, q) = (p.exact().exact(), q.exact().exact());
-    let half = Rat::new(1.into(), 2.into());
-    Some(LoopPoint::from(Point2 {
-        x: (&p.x + &q.x) * &half,
-        y: (&p.y + &q.y) * &half,
-    }))
-}
-
 #[derive(Clone, Copy)]
 struct Bbox {
     lo: [f64; 2],
     hi: [f64; 2],
 }
 
-fn bbox(poly: &[FilteredPoint<'_>]) -> Bbox {
+fn bbox<P: Planar>(poly: &[P]) -> Bbox {
     let mut b = Bbox {
         lo: [f64::INFINITY; 2],
         hi: [f64::NEG_INFINITY; 2],
@@ -119,33 +93,26 @@ fn bbox(poly: &[FilteredPoint<'_>]) -> Bbox {
     b
 }
 
-/// Whether two segments of a family may run both ways between the same
-/// two points.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Reversals {
-    /// Never (S_O, dF): every segment's midpoint lies on its loop alone.
-    Impossible,
-    /// Possibly (one-sided limits: zero-width cracks and spikes), or not
-    /// known.
-    Possible,
+/// A family of loops to nest: each loop's points in order (first not
+/// repeated, enclosures computed), the exact sign of its area, and the
+/// index of one of its points that lies on no other loop of the family,
+/// where the caller knows one.
+pub struct Family<'f, L> {
+    /// The loops.
+    pub loops: &'f [L],
+    /// The exact sign of each loop's area.
+    pub orientation: &'f [Sign],
+    /// A point of each loop on no other loop, if known.
+    pub representative: &'f [Option<usize>],
 }
 
-/// Nests a family of loops. `loops[i]` is the exact polygon of loop `i`.
-pub fn nest<P: AsRef<[LoopPoint]>>(loops: &[P]) -> Vec<Nesting> {
-    let mut filtered: Vec<Vec<FilteredPoint<'_>>> = loops
-        .iter()
-        .map(|l| l.as_ref().iter().map(FilteredPoint::approximate).collect())
-        .collect();
-    nest_filtered(&mut filtered, Reversals::Possible)
-}
+/// How many times the sweep's estimated work the ray casting may cost.
+const RAY_BUDGET: usize = 4;
 
-/// [`nest`] for loops whose points are already approximated (they are
-/// enclosed here when there is more than one loop).
-pub fn nest_filtered(
-    filtered: &mut [Vec<FilteredPoint<'_>>],
-    reversals: Reversals,
-) -> Vec<Nesting> {
-    let n = filtered.len();
+/// Nests a family of loops (see the module documentation).
+pub fn nest<P: Planar, L: AsRef<[P]>>(family: &Family<'_, L>) -> Vec<Nesting> {
+    let loops = family.loops;
+    let n = loops.len();
     if n < 2 {
         let alone = Nesting {
             role: Role::Outer,
@@ -154,36 +121,25 @@ pub fn nest_filtered(
         };
         return vec![alone; n];
     }
-    filtered
-        .iter_mut()
-        .flatten()
-        .for_each(FilteredPoint::enclose);
-    let filtered: &[Vec<FilteredPoint<'_>>] = filtered;
-    let keys: Vec<Vec<Key>> = match reversals {
-        Reversals::Possible => filtered
-            .iter()
-            .map(|l| l.iter().map(FilteredPoint::key).collect())
-            .collect(),
-        Reversals::Impossible => Vec::new(),
+    let parents = match candidates(family) {
+        Some(containers) => ray_cast_parents(family, &containers),
+        None => sweep::parents(loops, family.orientation),
     };
-    let mut segments: HashSet<(Key, Key)> =
-        HashSet::with_capacity_and_hasher(keys.iter().map(Vec::len).sum(), Default::default());
-    segments.extend(
-        keys.iter()
-            .flat_map(|k| (0..k.len()).map(|i| (k[i], k[(i + 1) % k.len()]))),
-    );
-    let reps: Vec<Option<LoopPoint>> = filtered
-        .iter()
-        .enumerate()
-        .map(|(i, l)| {
-            let keys = keys.get(i).map(|k| LoopKeys {
-                points: k,
-                family: &segments,
-            });
-            representative(l, keys)
-        })
-        .collect();
-    let boxes: Vec<Bbox> = filtered.iter().map(|l| bbox(l)).collect();
+    with_depths(&parents)
+}
+
+/// For each loop, the loops that may contain its representative (their
+/// boxes hold it), or `None` when some loop has no representative or
+/// testing them all would cost more than the sweep.
+fn candidates<P: Planar, L: AsRef<[P]>>(family: &Family<'_, L>) -> Option<Vec<Vec<u32>>> {
+    let loops = family.loops;
+    let n = loops.len();
+    let reps: Vec<&P> = (0..n)
+        .map(|i| family.representative[i].map(|k| &loops[i].as_ref()[k]))
+        .collect::<Option<_>>()?;
+    let points: usize = loops.iter().map(|l| l.as_ref().len()).sum();
+    let budget = RAY_BUDGET * points * (usize::BITS - points.leading_zeros()) as usize;
+    let boxes: Vec<Bbox> = loops.iter().map(|l| bbox(l.as_ref())).collect();
     let mut lo = [f64::INFINITY; 2];
     let mut hi = [f64::NEG_INFINITY; 2];
     for b in &boxes {
@@ -195,11 +151,18 @@ pub fn nest_filtered(
     let cells = ((n as f64).sqrt().ceil() as usize).clamp(1, 1024);
     let cell_of = |x: f64, k: usize| -> usize {
         let span = hi[k] - lo[k];
-        if span.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+        if span.partial_cmp(&0.0) != Some(Ordering::Greater) {
             return 0;
         }
         (((x - lo[k]) / span * cells as f64) as usize).min(cells - 1)
     };
+    // Boxes spanning many cells (loops around many others) make the grid
+    // itself quadratic: count its entries first.
+    let span = |b: &Bbox, k: usize| cell_of(b.hi[k], k) - cell_of(b.lo[k], k) + 1;
+    let entries: usize = boxes.iter().map(|b| span(b, 0) * span(b, 1)).sum();
+    if entries > budget {
+        return None;
+    }
     let mut grid: Vec<Vec<u32>> = vec![Vec::new(); cells * cells];
     for (i, b) in boxes.iter().enumerate() {
         for cx in cell_of(b.lo[0], 0)..=cell_of(b.hi[0], 0) {
@@ -208,36 +171,107 @@ pub fn nest_filtered(
             }
         }
     }
-    let mut containers: Vec<Vec<usize>> = vec![Vec::new(); n];
-    for i in 0..n {
-        let Some(r) = &reps[i] else { continue };
-        let rf = FilteredPoint::new(r);
-        let f = r.to_f64();
-        let cell = &grid[cell_of(f[1], 1) * cells + cell_of(f[0], 0)];
-        for &j in cell {
-            let j = j as usize;
-            if j == i {
+    let mut work = 0usize;
+    let mut out = vec![Vec::new(); n];
+    for (i, r) in reps.iter().enumerate() {
+        let f = r.rounded();
+        for &j in &grid[cell_of(f[1], 1) * cells + cell_of(f[0], 0)] {
+            let b = &boxes[j as usize];
+            // Exact reject: the nearest doubles of the exact point lie
+            // outside the box of enclosures only if the point does.
+            if j as usize == i
+                || f[0] < b.lo[0]
+                || f[0] > b.hi[0]
+                || f[1] < b.lo[1]
+                || f[1] > b.hi[1]
+            {
                 continue;
             }
-            let b = &boxes[j];
-            // Exact reject: the rounded point lies outside the widened box
-            // only if the exact point does.
-            if f[0] < b.lo[0] || f[0] > b.hi[0] || f[1] < b.lo[1] || f[1] > b.hi[1] {
-                continue;
+            work += loops[j as usize].as_ref().len();
+            if work > budget {
+                return None;
             }
-            if contains(&filtered[j], &rf) {
-                containers[i].push(j);
-            }
+            out[i].push(j);
         }
     }
-    (0..n)
-        .map(|i| {
-            let depth = containers[i].len();
-            // Containers form a chain; the parent is the deepest of them.
-            let parent = containers[i]
-                .iter()
+    Some(out)
+}
+
+/// Parents by crossing parity: the containers of a loop form a chain; its
+/// parent is the deepest of them.
+fn ray_cast_parents<P: Planar, L: AsRef<[P]>>(
+    family: &Family<'_, L>,
+    candidates: &[Vec<u32>],
+) -> Vec<Option<usize>> {
+    let loops = family.loops;
+    let containers: Vec<Vec<usize>> = candidates
+        .iter()
+        .enumerate()
+        .map(|(i, cand)| {
+            let k = family.representative[i].unwrap_or(0);
+            let r = &loops[i].as_ref()[k];
+            cand.iter()
+                .map(|&j| j as usize)
+                .filter(|&j| contains(loops[j].as_ref(), r))
+                .collect()
+        })
+        .collect();
+    containers
+        .iter()
+        .map(|c| {
+            c.iter()
                 .copied()
-                .max_by_key(|&j| (containers[j].len(), std::cmp::Reverse(j)));
+                .max_by_key(|&j| (containers[j].len(), std::cmp::Reverse(j)))
+        })
+        .collect()
+}
+
+/// Nests loops of exact points known only by their coordinates: each
+/// loop's orientation computed exactly, nesting by the sweep (no
+/// representative is known). For tests and tools; the slicer calls
+/// [`nest`] with what its topology knows.
+pub fn nest_points(loops: &[Vec<LoopPoint>]) -> Vec<Nesting> {
+    let filtered: Vec<Vec<FilteredPoint<'_>>> = loops
+        .iter()
+        .map(|l| l.iter().map(FilteredPoint::new).collect())
+        .collect();
+    let orientation: Vec<Sign> = loops
+        .iter()
+        .map(|l| Sign::of_rat(&signed_area(l)))
+        .collect();
+    nest(&Family {
+        loops: &filtered,
+        orientation: &orientation,
+        representative: &vec![None; loops.len()],
+    })
+}
+
+/// Depths and roles from parents.
+fn with_depths(parents: &[Option<usize>]) -> Vec<Nesting> {
+    let mut depth: Vec<Option<usize>> = vec![None; parents.len()];
+    let mut path = Vec::new();
+    for start in 0..parents.len() {
+        let mut at = start;
+        let base = loop {
+            if let Some(d) = depth[at] {
+                break d + 1;
+            }
+            path.push(at);
+            match parents[at] {
+                Some(p) => at = p,
+                None => break 0,
+            }
+        };
+        for (k, &p) in path.iter().rev().enumerate() {
+            depth[p] = Some(base + k);
+        }
+        path.clear();
+    }
+    parents
+        .iter()
+        .zip(depth)
+        .map(|(&parent, d)| {
+            let depth = d.unwrap_or(0);
             Nesting {
                 role: if depth % 2 == 0 {
                     Role::Outer
@@ -254,6 +288,7 @@ pub fn nest_filtered(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::exact::{Point2, Rat};
 
     fn square(x0: i64, y0: i64, s: i64, ccw: bool) -> Vec<LoopPoint> {
         let p = |x: i64, y: i64| {
@@ -277,7 +312,7 @@ mod tests {
             square(4, 4, 2, true),
             square(20, 0, 1, true),
         ];
-        let n = nest(&loops);
+        let n = nest_points(&loops);
         assert_eq!(
             n[1],
             Nesting {
@@ -320,9 +355,103 @@ mod tests {
             square(1, 1, 1, true),
             square(-5, -5, 20, true),
         ];
-        let n = nest(&loops);
+        let n = nest_points(&loops);
         assert_eq!(n[0].parent, Some(2));
         assert_eq!(n[1].parent, Some(2));
         assert_eq!(n[0].role, Role::Hole);
+    }
+
+    /// Both methods on the contours of random closed meshes at every
+    /// vertex height and between (loops touching at saddles, holes in
+    /// holes): the sweep's parents equal crossing parity's, which equal
+    /// the slicer's.
+    #[test]
+    fn sweep_equals_ray_casting_on_random_contours() {
+        use crate::datasets::slab::{heights_and_midpoints, Slab};
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut tried = 0;
+        for _ in 0..60 {
+            let bytes: Vec<u8> = (0..48)
+                .map(|_| {
+                    seed ^= seed << 13;
+                    seed ^= seed >> 7;
+                    seed ^= seed << 17;
+                    seed as u8
+                })
+                .collect();
+            let mesh = Slab::from_bytes(&bytes).mesh();
+            let slicer = crate::Slicer::new(&mesh).unwrap();
+            for c in heights_and_midpoints(&mesh) {
+                let ls = slicer.slice_at(&c).unwrap();
+                let loops: Vec<Vec<FilteredPoint<'_>>> = ls
+                    .contours
+                    .iter()
+                    .map(|l| l.points.iter().map(FilteredPoint::new).collect())
+                    .collect();
+                let orientation: Vec<Sign> = ls.contours.iter().map(|l| l.orientation).collect();
+                let reps: Vec<Option<usize>> = ls
+                    .contours
+                    .iter()
+                    .map(|l| {
+                        l.cuts
+                            .iter()
+                            .position(|c| matches!(c, crate::segment::CutPoint::OnEdge(_)))
+                    })
+                    .collect();
+                let family = Family {
+                    loops: &loops,
+                    orientation: &orientation,
+                    representative: &reps,
+                };
+                let swept = sweep::parents(&loops, &orientation);
+                let stored: Vec<Option<usize>> = ls.contours.iter().map(|l| l.parent).collect();
+                assert_eq!(swept, stored, "sweep at {c}");
+                if reps.iter().all(Option::is_some) {
+                    let all: Vec<Vec<u32>> = (0..loops.len())
+                        .map(|i| {
+                            (0..loops.len() as u32)
+                                .filter(|&j| j as usize != i)
+                                .collect()
+                        })
+                        .collect();
+                    assert_eq!(ray_cast_parents(&family, &all), stored, "rays at {c}");
+                }
+                tried += usize::from(loops.len() > 1);
+            }
+        }
+        assert!(tried > 50, "{tried} levels with several loops");
+    }
+
+    #[test]
+    fn deep_nesting_goes_to_the_sweep() {
+        // 200 nested squares: ray casting would test 200 * 199 / 2 pairs.
+        let loops: Vec<Vec<LoopPoint>> = (0..200)
+            .map(|i| square(-i, -i, 2 * i + 1, i % 2 == 0))
+            .collect();
+        let filtered: Vec<Vec<FilteredPoint<'_>>> = loops
+            .iter()
+            .map(|l| l.iter().map(FilteredPoint::new).collect())
+            .collect();
+        let orientation: Vec<Sign> = (0..200)
+            .map(|i| {
+                if i % 2 == 0 {
+                    Sign::Positive
+                } else {
+                    Sign::Negative
+                }
+            })
+            .collect();
+        let reps = vec![Some(0); 200];
+        let family = Family {
+            loops: &filtered,
+            orientation: &orientation,
+            representative: &reps,
+        };
+        assert!(candidates(&family).is_none(), "over the ray budget");
+        let n = nest(&family);
+        for (i, x) in n.iter().enumerate() {
+            assert_eq!(x.parent, i.checked_add(1).filter(|&p| p < 200));
+            assert_eq!(x.depth, 199 - i);
+        }
     }
 }

@@ -209,7 +209,12 @@ pub fn from_level_sets<'a>(
                 LoopChoice::Above => &ls.above,
                 LoopChoice::Contour => &ls.contours,
             };
-            let mut polylines: Vec<Polyline> = loops.iter().map(loop_polyline).collect();
+            // A collapsed limit bounds no material: nothing to print.
+            let mut polylines: Vec<Polyline> = loops
+                .iter()
+                .filter(|l| !l.collapsed)
+                .map(loop_polyline)
+                .collect();
             if opts.with_ridges {
                 for r in &ls.ridges {
                     let mut points: Vec<[f64; 2]> = r.points.iter().map(|p| p.to_f64()).collect();

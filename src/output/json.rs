@@ -132,6 +132,16 @@ fn number(out: &mut Vec<u8>, v: f64) {
     }
 }
 
+/// The nearest finite double of a rational whose nearest double
+/// overflows (a loop's area on a mesh near `2^1000`): `f64::MAX` of its
+/// sign. JSON has no infinity (`number` would write `null`, losing the
+/// sign, and many readers refuse a decimal beyond `f64::MAX`); the exact
+/// value is `area_exact`. The verifier expects the same saturation.
+fn overflowed(out: &mut Vec<u8>, r: &Rat) {
+    use num_traits::Signed;
+    number(out, if r.is_negative() { f64::MIN } else { f64::MAX });
+}
+
 /// Writes an unsigned integer.
 fn integer(out: &mut Vec<u8>, v: u64) {
     let _ = CompactFormatter.write_u64(out, v);
@@ -181,14 +191,15 @@ fn key(out: &mut Vec<u8>, key: &str, first: bool) {
 }
 
 /// Writes one loop. With exact output, `area` is the nearest double of
-/// `area_exact` (computed anyway); without, the loop's certified rounding
-/// ([`Loop::area_approx`]: of the exact sign, within a few ulps of the
-/// largest shoelace partial sum per point), so the exact area is never
-/// computed.
+/// `area_exact` (computed anyway); without, the certified rounding from
+/// the written points ([`Loop::rounded_area`]: of the exact sign, within a
+/// bound relative to the loop's size), so the exact area is computed only
+/// where that bound cannot show the sign.
 fn json_loop(out: &mut Vec<u8>, l: &Loop, ex: Exactness) {
     out.push(b'{');
     key(out, "points", true);
-    array(out, &l.points, |o, p| pair(o, p.to_f64()));
+    let rounded: Vec<[f64; 2]> = l.points.iter().map(|p| p.to_f64()).collect();
+    array(out, &rounded, |o, p| pair(o, *p));
     let exact_area = (ex == Exactness::WithExact).then(|| l.area());
     if ex == Exactness::WithExact {
         key(out, "exact", false);
@@ -213,7 +224,18 @@ fn json_loop(out: &mut Vec<u8>, l: &Loop, ex: Exactness) {
         });
     }
     key(out, "area", false);
-    number(out, exact_area.as_ref().map_or(l.area_approx, rat_to_f64));
+    let rounded = match &exact_area {
+        Some(a) => rat_to_f64(a),
+        None => l.rounded_area(&rounded),
+    };
+    if rounded.is_finite() {
+        number(out, rounded);
+    } else {
+        match &exact_area {
+            Some(a) => overflowed(out, a),
+            None => overflowed(out, &l.area()),
+        }
+    }
     if let Some(a) = &exact_area {
         key(out, "area_exact", false);
         plain_string(out, &rat_to_string(a));
@@ -224,6 +246,10 @@ fn json_loop(out: &mut Vec<u8>, l: &Loop, ex: Exactness) {
     match l.parent {
         Some(p) => integer(out, p as u64),
         None => out.extend_from_slice(b"null"),
+    }
+    if l.collapsed {
+        key(out, "collapsed", false);
+        out.extend_from_slice(b"true");
     }
     out.push(b'}');
 }
@@ -344,6 +370,17 @@ impl<W: Write> JsonWriter<W> {
         Ok(())
     }
 
+    /// Writes one level's text given as bytes: [`LevelText::to_bytes`] of a
+    /// level made with this writer's exactness (e.g. in another process).
+    pub fn level_bytes(&mut self, text: &[u8]) -> std::io::Result<()> {
+        if self.count > 0 {
+            self.out.write_all(b",\n")?;
+        }
+        self.out.write_all(text)?;
+        self.count += 1;
+        Ok(())
+    }
+
     /// Closes the document and returns the writer.
     pub fn finish(mut self) -> std::io::Result<W> {
         self.out.write_all(b"\n]}\n")?;
@@ -366,6 +403,19 @@ pub fn to_json(header: &MeshHeader, levels: &[LevelSet], ex: Exactness) -> Strin
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn overflowed_areas_saturate_to_the_largest_double_of_their_sign() {
+        let big = Rat::from_integer(2.into()).pow(2000);
+        for (r, text) in [
+            (big.clone(), "1.7976931348623157e+308"),
+            (-big, "-1.7976931348623157e+308"),
+        ] {
+            let mut out = Vec::new();
+            super::overflowed(&mut out, &r);
+            assert_eq!(String::from_utf8(out).unwrap(), text);
+        }
+    }
+
     use super::*;
     use crate::classify::{ExtremumKind, Facing, RidgeKind};
     use crate::exact::Point2;
@@ -393,6 +443,8 @@ mod tests {
         area_exact: Option<String>,
         role: Role,
         parent: Option<usize>,
+        #[serde(skip_serializing_if = "std::ops::Not::not")]
+        collapsed: bool,
     }
 
     #[derive(Serialize)]
@@ -459,10 +511,17 @@ mod tests {
                     })
                     .collect()
             }),
-            area: exact_area.as_ref().map_or(l.area_approx, rat_to_f64),
+            area: exact_area.as_ref().map_or_else(
+                || {
+                    let q: Vec<[f64; 2]> = l.points.iter().map(|p| p.to_f64()).collect();
+                    l.rounded_area(&q)
+                },
+                rat_to_f64,
+            ),
             area_exact: exact_area.as_ref().map(rat_to_string),
             role: l.role,
             parent: l.parent,
+            collapsed: l.collapsed,
         }
     }
 

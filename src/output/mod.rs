@@ -4,6 +4,7 @@
 //! only for writing.
 
 pub mod atomic;
+pub mod certificate;
 pub mod cli_layers;
 pub mod html;
 pub mod json;

@@ -31,7 +31,13 @@ fn loops_area_text(loops: &[Loop]) -> String {
     }
     // The loops' certified roundings, summed (not built exactly: a
     // fraction this size costs more than the slicing).
-    let approx: f64 = loops.iter().map(|l| l.area_approx).sum();
+    let approx: f64 = loops
+        .iter()
+        .map(|l| {
+            let rounded: Vec<[f64; 2]> = l.points.iter().map(|p| p.to_f64()).collect();
+            l.rounded_area(&rounded)
+        })
+        .sum();
     format!("~{approx} (exact denominator up to {bound} bits: see --format json --exact)")
 }
 
@@ -108,20 +114,22 @@ pub fn summary(ls: &LevelSet) -> String {
             .collect();
         let _ = writeln!(s, "  saddles      : {}", list.join(", "));
     }
-    let (bo, bh) = roles(&ls.below);
-    let (ao, ah) = roles(&ls.above);
-    let _ = writeln!(
-        s,
-        "  below L-     : {} loops ({bo} outer, {bh} hole), area {}",
-        ls.below.len(),
-        loops_area_text(&ls.below)
-    );
-    let _ = write!(
-        s,
-        "  above L+     : {} loops ({ao} outer, {ah} hole), area {}",
-        ls.above.len(),
-        loops_area_text(&ls.above)
-    );
+    let limit = |loops: &[Loop]| {
+        let (outer, hole) = roles(loops);
+        let collapsed = loops.iter().filter(|l| l.collapsed).count();
+        let note = if collapsed > 0 {
+            format!(", {collapsed} collapsed")
+        } else {
+            String::new()
+        };
+        format!(
+            "{} loops ({outer} outer, {hole} hole{note}), area {}",
+            loops.len(),
+            loops_area_text(loops)
+        )
+    };
+    let _ = writeln!(s, "  below L-     : {}", limit(&ls.below));
+    let _ = write!(s, "  above L+     : {}", limit(&ls.above));
     s
 }
 
@@ -157,11 +165,12 @@ mod tests {
             level: Rat::default(),
             contours: std::sync::Arc::new(vec![Loop {
                 cuts: vec![CutPoint::AtVertex(crate::ids::VertexId(0)); points.len()],
-                area_approx: rat_to_f64(&crate::exact::area::signed_area(&points)),
                 points: points.into_iter().map(Into::into).collect(),
                 orientation: Sign::Positive,
                 role: Role::Outer,
                 parent: None,
+                collapsed: false,
+                crossings: vec![],
             }]),
             regions: vec![],
             ridges: vec![],
@@ -174,10 +183,16 @@ mod tests {
         let exact = crate::exact::area::signed_area(&big);
         assert!(exact.denom().bits() > EXACT_TEXT_BITS);
         let text = summary(&ls(big));
-        assert!(
-            text.contains(&format!("area ~{} (exact denominator", rat_to_f64(&exact))),
-            "{text}"
-        );
+        // The certified rounding from the points' nearest doubles: within
+        // its bound (about n u d (4m + 3d), here below 1e-8) of the exact.
+        let printed: f64 = text
+            .split("area ~")
+            .nth(1)
+            .and_then(|t| t.split(' ').next())
+            .and_then(|t| t.parse().ok())
+            .unwrap_or(f64::NAN);
+        assert!((printed - rat_to_f64(&exact)).abs() < 1e-8, "{text}");
+        assert!(text.contains("(exact denominator"), "{text}");
         let small = many_denominators(4);
         let exact = crate::exact::area::signed_area(&small);
         let text = summary(&ls(small));

@@ -11,7 +11,7 @@
 //! | S_NO polyline | `sno ridge`, `sno valley` | red, cyan dashes |
 //! | P | `p min`, `p max` | teal, orange dot |
 //! | saddle (`data-m` = m, labelled `m=3`) | `saddle` | magenta diamond |
-//! | L-, L+ loop | `lminus`, `lplus` (plus `outer`/`hole`) | amber, violet thin dashes |
+//! | L-, L+ loop | `lminus`, `lplus` (plus `outer`/`hole`, and `collapsed` for a limit of zero width) | amber, violet thin dashes (dotted when collapsed) |
 //! | direction arrow (on request) | `arrow on-so` (`hole`), `arrow on-df` | the loop's colour |
 //!
 //! Each kind sits in its own group (`layer-so`, `layer-f`, `layer-sno`,
@@ -89,6 +89,7 @@ pub fn style() -> String {
 .lminus,.lplus{{fill:none;stroke-width:2px;stroke-dasharray:4 3}}
 .lminus{{stroke:{L_MINUS}}}
 .lplus{{stroke:{L_PLUS}}}
+.lminus.collapsed,.lplus.collapsed{{stroke-dasharray:1 3}}
 .arrow.on-so{{fill:{SO_OUTER}}}
 .arrow.on-so.hole{{fill:{SO_HOLE}}}
 .arrow.on-df{{fill:{DF}}}
@@ -484,9 +485,12 @@ fn loops_as_paths(s: &mut String, class: &str, loops: &[Loop]) {
     for l in loops {
         let mut d = String::new();
         subpath(&mut d, &rounded(&l.points), true);
+        // Limits are drawn as lines, never filled; a collapsed one is
+        // marked so that a viewer can tell it bounds nothing.
+        let collapsed = if l.collapsed { " collapsed" } else { "" };
         let _ = writeln!(
             s,
-            r#"<path class="{class} {}" data-area="{}" d="{d}"/>"#,
+            r#"<path class="{class} {}{collapsed}" data-area="{}" d="{d}"/>"#,
             role_class(l.role),
             rat_to_string(&l.area())
         );

@@ -80,6 +80,8 @@ pub struct LoopDoc {
     pub role: String,
     /// Parent index.
     pub parent: Option<u64>,
+    /// `"collapsed": true` (L-, L+ only); false when absent.
+    pub collapsed: bool,
 }
 
 /// A face region (`faces` entry).
@@ -416,6 +418,10 @@ fn loop_doc(v: &mut Value, c: &Ctx) -> Result<LoopDoc, FormatError> {
         area_exact: string(exact_field(v, c, "area_exact")?, &c.key("area_exact"))?,
         role: string(field(v, c, "role")?, &c.key("role"))?,
         parent,
+        collapsed: match v.get_mut("collapsed") {
+            None => false,
+            Some(b) => boolean(b, &c.key("collapsed"))?,
+        },
     })
 }
 

@@ -305,47 +305,6 @@ impl Facts {
         }
     }
 
-    /// The pieces of L- or L+ (SPEC section 6): vertex signs perturbed, the
-    /// face walk as for S_O, a crossing on an edge with an end on the plane
-    /// placed at that end, pieces that collapse to one element dropped.
-    pub(super) fn one_sided(&self, mesh: &Mesh, topo: &Topology, side: Side) -> Pieces {
-        let nudge = match side {
-            Side::Below => Sign::Positive,
-            Side::Above => Sign::Negative,
-        };
-        let perturbed: Vec<Sign> = self
-            .signs
-            .iter()
-            .map(|&s| if s == Sign::Zero { nudge } else { s })
-            .collect();
-        let place = |on: On| match on {
-            On::Edge(e) => {
-                let [a, b] = topo.edges[e as usize].v;
-                if self.signs[a.idx()] == Sign::Zero {
-                    On::Vertex(a.0.into())
-                } else if self.signs[b.idx()] == Sign::Zero {
-                    On::Vertex(b.0.into())
-                } else {
-                    on
-                }
-            }
-            v => v,
-        };
-        let mut pieces: Pieces = HashMap::new();
-        for f in 0..mesh.num_faces() {
-            let tri = mesh.faces[f].map(|v| v.0);
-            let s = tri.map(|v| perturbed[v as usize]);
-            let edges = topo.face_edges[f].map(|e| e.0);
-            if let Some((from, to)) = face_piece(s, tri, edges) {
-                let (from, to) = (place(from), place(to));
-                if from != to {
-                    *pieces.entry((from, to)).or_default() += 1;
-                }
-            }
-        }
-        pieces
-    }
-
     /// The exact unsigned area of faces, in stored units squared.
     pub(super) fn area_of(mesh: &Mesh, faces: impl Iterator<Item = usize>) -> Rat {
         let twice = faces.fold(Rat::zero(), |acc, f| acc + twice_area(mesh, f).abs());

@@ -48,6 +48,7 @@ mod facts;
 mod geometry;
 pub mod json;
 mod level;
+mod limits;
 pub mod report;
 
 pub use doc::FormatError;
@@ -87,18 +88,49 @@ pub enum VerifyError {
 /// (true coordinate = stored * unit), `None` when not snapped. The levels
 /// are read and checked one at a time, so memory holds one level.
 pub fn verify(mesh: &Mesh, unit: Option<&Rat>, text: &str) -> Result<Report, VerifyError> {
-    let ctx = prepare(mesh, unit)?;
-    let mut report = Report::default();
-    let root = json::parse_streaming(text, "levels", |i, v| -> Result<(), VerifyError> {
-        let l = doc::level(v, i)?;
-        level::check_level(&ctx, i, &l, &mut report.violations, &mut report.checked);
-        Ok(())
-    })?;
-    let header = doc::header(&root)?;
-    let mut violations = check_header(mesh, unit, &header);
-    violations.append(&mut report.violations);
-    report.violations = violations;
-    Ok(report)
+    Verifier::new(mesh, unit)?.verify(text)
+}
+
+/// [`verify`] for many results (or shards of one result's levels) against
+/// one mesh: validation, the edge table and the mesh fingerprint are made
+/// once.
+pub struct Verifier<'m> {
+    ctx: level::MeshCtx<'m>,
+    unit: Option<Rat>,
+    sha256: String,
+}
+
+impl<'m> Verifier<'m> {
+    /// Validates the mesh (in stored units; `unit` the snap grid) and
+    /// builds what every level shares.
+    pub fn new(mesh: &'m Mesh, unit: Option<&Rat>) -> Result<Self, VerifyError> {
+        Ok(Verifier {
+            ctx: prepare(mesh, unit)?,
+            unit: unit.cloned(),
+            sha256: mesh_sha256(mesh),
+        })
+    }
+
+    /// Verifies one result text, as [`verify`] does.
+    pub fn verify(&self, text: &str) -> Result<Report, VerifyError> {
+        let mut report = Report::default();
+        let root = json::parse_streaming(text, "levels", |i, v| -> Result<(), VerifyError> {
+            let l = doc::level(v, i)?;
+            level::check_level(
+                &self.ctx,
+                i,
+                &l,
+                &mut report.violations,
+                &mut report.checked,
+            );
+            Ok(())
+        })?;
+        let header = doc::header(&root)?;
+        let mut violations = check_header(self.ctx.mesh, self.unit.as_ref(), &self.sha256, &header);
+        violations.append(&mut report.violations);
+        report.violations = violations;
+        Ok(report)
+    }
 }
 
 /// The header of a result text (to learn its snap grid before loading the
@@ -117,7 +149,7 @@ pub fn verify_value(
     let header = doc::header(value)?;
     let ctx = prepare(mesh, unit)?;
     let mut report = Report {
-        violations: check_header(mesh, unit, &header),
+        violations: check_header(mesh, unit, &mesh_sha256(mesh), &header),
         ..Report::default()
     };
     let levels = value.get("levels").and_then(json::Value::as_array);
@@ -143,7 +175,7 @@ fn prepare<'m>(mesh: &'m Mesh, unit: Option<&Rat>) -> Result<level::MeshCtx<'m>,
 }
 
 /// The header must describe the mesh verified against.
-fn check_header(mesh: &Mesh, unit: Option<&Rat>, h: &doc::HeaderDoc) -> Vec<Violation> {
+fn check_header(mesh: &Mesh, unit: Option<&Rat>, sha: &str, h: &doc::HeaderDoc) -> Vec<Violation> {
     let place = Place {
         level: None,
         family: Family::Header,
@@ -170,11 +202,10 @@ fn check_header(mesh: &Mesh, unit: Option<&Rat>, h: &doc::HeaderDoc) -> Vec<Viol
             });
         }
     }
-    let sha = mesh_sha256(mesh);
     if h.sha256 != sha {
         push(Problem::MeshHash {
             claimed: h.sha256.clone(),
-            actual: sha,
+            actual: sha.to_owned(),
         });
     }
     let grid = unit.map(rat_to_string);

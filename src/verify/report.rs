@@ -276,6 +276,33 @@ pub enum Problem {
     /// Every segment of the loop runs back along another loop: no point
     /// of it can be tested for containment.
     NoInteriorSegment,
+    /// L-, L+: the loop is not the limit of a loop of the contour at
+    /// `c -/+ epsilon` (the pieces chained through edges).
+    NotALimitLoop,
+    /// L-, L+: a loop of the contour at `c -/+ epsilon` is missing.
+    LimitLoopMissing {
+        /// The first element of its limit.
+        first: On,
+        /// The number of points of its limit.
+        points: usize,
+    },
+    /// L-, L+: the pieces of the perturbed face walk do not chain through
+    /// edges (two leave one edge, or one leads nowhere).
+    LimitNotChained(u64),
+    /// L-, L+: the role disagrees with the sign of the area at
+    /// `c -/+ epsilon` (the first non-zero term in `epsilon`).
+    LimitOrientation {
+        /// The role as written.
+        role: String,
+        /// The sign of the area for small `epsilon > 0`.
+        sign: Sign,
+    },
+    /// L-, L+: `collapsed` disagrees with the limit areas of the regions
+    /// the loop bounds.
+    WrongCollapsed {
+        /// As written.
+        claimed: bool,
+    },
     /// Two segments of the family cross.
     Crossing(Other),
     /// Two segments touch at a point that is not a mesh element they share.
@@ -512,6 +539,35 @@ impl fmt::Display for Problem {
             ),
             P::NoInteriorSegment => f.write_str(
                 "every segment runs back along another loop: containment cannot be decided",
+            ),
+            P::NotALimitLoop => f.write_str(
+                "is not the limit of a loop of the contour at c -/+ epsilon (pieces chained through edges)",
+            ),
+            P::LimitLoopMissing { first, points } => write!(
+                f,
+                "the limit loop of {points} points through {first} is missing"
+            ),
+            P::LimitNotChained(e) => write!(
+                f,
+                "the perturbed face walk does not chain through edge e{e}"
+            ),
+            P::LimitOrientation { role, sign } => write!(
+                f,
+                "{role} loop has a {} area at c -/+ epsilon: outer loops must be > 0, holes < 0",
+                match sign {
+                    Sign::Positive => "positive",
+                    Sign::Negative => "negative",
+                    Sign::Zero => "zero",
+                }
+            ),
+            P::WrongCollapsed { claimed } => write!(
+                f,
+                "collapsed is {claimed}, but {}",
+                if *claimed {
+                    "every region the loop bounds has a non-zero limit area"
+                } else {
+                    "a region the loop bounds has limit area 0"
+                }
             ),
             P::Crossing(o) => write!(f, "crosses {o}"),
             P::Touching(o) => write!(f, "touches {o} at a point that is no shared mesh element"),

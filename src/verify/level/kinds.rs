@@ -260,8 +260,10 @@ impl LevelCheck<'_, '_> {
         }
     }
 
-    /// An isolated extremum is in P and nothing else: no loop point and no
-    /// ridge vertex may be one.
+    /// An isolated extremum is in P and nothing else of the classification
+    /// (SPEC 7.1): no S_O or dF point and no ridge vertex may be one. (The
+    /// one-sided limits are not part of it: a limit collapses onto an
+    /// extremum.)
     pub(super) fn check_extrema_elsewhere(&mut self, doc: &LevelDoc) {
         if self.facts().extrema.is_empty() {
             return;
@@ -288,12 +290,6 @@ impl LevelCheck<'_, '_> {
             for (i, l) in reg.boundary.iter().enumerate() {
                 scan(Family::Boundary, r, Some(i), l);
             }
-        }
-        for (i, l) in doc.below.iter().enumerate() {
-            scan(Family::Below, i, None, l);
-        }
-        for (i, l) in doc.above.iter().enumerate() {
-            scan(Family::Above, i, None, l);
         }
         for (r, ridge) in doc.ridges.iter().enumerate() {
             for (k, &v) in ridge.vertices.iter().enumerate() {

@@ -7,6 +7,7 @@
 //! roles; roles and parents against exact containment; no crossing.
 
 mod kinds;
+mod limits;
 mod regions;
 
 use crate::exact::area::signed_area;
@@ -18,9 +19,9 @@ use crate::verify::doc::{LevelDoc, LoopDoc, On};
 use crate::verify::facts::{Facing, Facts, Pieces, Side};
 use crate::verify::geometry::{Family as Loops, Pt};
 use crate::verify::report::{Checked, Family, Other, Place, Problem, Violation};
-use num_traits::{One, Zero};
+use num_traits::One;
 use std::cell::OnceCell;
-use std::collections::{BTreeSet, HashMap, HashSet};
+use std::collections::{HashMap, HashSet};
 
 /// The mesh side of a verification, shared by every level.
 pub(super) struct MeshCtx<'a> {
@@ -78,7 +79,7 @@ struct Geom {
 /// What the sign of a loop's area must be.
 #[derive(Clone, Copy)]
 enum Orientation {
-    /// S_O, L-, L+: outer > 0, hole < 0.
+    /// S_O: outer > 0, hole < 0.
     Contour,
     /// dF of a region with this (claimed) facing.
     Region(Facing),
@@ -224,10 +225,12 @@ impl LevelCheck<'_, '_> {
     }
 
     /// A rounded field: the decimal written must round to the double
-    /// nearest to `exact`. The text is read by Rust's float parser, which
-    /// rounds correctly (unlike a best-effort JSON number parser).
+    /// nearest to `exact` (the finite one: `f64::MAX` of its sign when the
+    /// value is beyond it, as JSON has no infinity). The text is read by
+    /// Rust's float parser, which rounds correctly (unlike a best-effort
+    /// JSON number parser).
     fn nearest(&mut self, place: Place, what: &'static str, text: &str, exact: &Rat) {
-        let want = rat_to_f64(exact);
+        let want = rat_to_f64(exact).clamp(f64::MIN, f64::MAX);
         let ok = text.parse::<f64>().is_ok_and(|r| r == want);
         if !ok {
             self.push(
@@ -299,14 +302,13 @@ impl LevelCheck<'_, '_> {
     fn run(&mut self, doc: &LevelDoc) {
         // S_O.
         let so = std::mem::take(&mut self.facts.so);
-        self.check_pieces(Family::Contours, None, &doc.contours, so, true);
+        self.check_pieces(Family::Contours, None, &doc.contours, so);
         let geoms = self.loops(Family::Contours, None, &doc.contours);
         self.check_family(
             Family::Contours,
             doc.contours.len(),
             geoms,
             Orientation::Contour,
-            false,
         );
 
         // F and dF.
@@ -318,15 +320,8 @@ impl LevelCheck<'_, '_> {
         self.check_saddles(doc);
 
         // L- and L+.
-        for (family, loops, side) in [
-            (Family::Below, &doc.below, Side::Below),
-            (Family::Above, &doc.above, Side::Above),
-        ] {
-            let pieces = self.facts().one_sided(self.m.mesh, &self.m.topo, side);
-            self.check_pieces(family, None, loops, pieces, false);
-            let geoms = self.loops(family, None, loops);
-            self.check_family(family, loops.len(), geoms, Orientation::Contour, true);
-        }
+        self.check_limit(Family::Below, &doc.below, Side::Below);
+        self.check_limit(Family::Above, &doc.above, Side::Above);
 
         self.check_extrema_elsewhere(doc);
     }
@@ -458,18 +453,15 @@ impl LevelCheck<'_, '_> {
         })
     }
 
-    /// The pieces of a family's loops against the pieces the mesh gives.
-    /// `exact_cover`: every expected piece must be used (S_O, dF); else
-    /// (L-, L+) the unused ones must cancel out as a zero 1-chain: pieces
-    /// that run both ways along one stretch, or loops that collapse to a
-    /// line, bound no material and are left out by the regularized limit.
+    /// The pieces of a family's loops against the pieces the mesh gives:
+    /// each used exactly once, in its direction. (A loop of one point, a
+    /// collapsed limit around an extremum, has no piece.)
     fn check_pieces(
         &mut self,
         family: Family,
         region: Option<usize>,
         docs: &[LoopDoc],
         mut expected: Pieces,
-        exact_cover: bool,
     ) {
         let mut reversed: HashSet<(On, On)> = HashSet::new();
         for (i, d) in docs.iter().enumerate() {
@@ -477,7 +469,7 @@ impl LevelCheck<'_, '_> {
                 Some(r) => (r, Some(i)),
                 None => (i, None),
             };
-            let n = d.on.len();
+            let n = if d.on.len() == 1 { 0 } else { d.on.len() };
             let mut found = Vec::new();
             for k in 0..n {
                 let (from, to) = (d.on[k], d.on[(k + 1) % n]);
@@ -515,9 +507,6 @@ impl LevelCheck<'_, '_> {
             .flat_map(|(k, c)| std::iter::repeat_n(k, c as usize))
             .collect();
         left.sort();
-        if !exact_cover {
-            left = self.unbalanced(&left);
-        }
         for (from, to) in left {
             if reversed.contains(&(from, to)) {
                 continue; // reported as the reversed segment
@@ -527,46 +516,6 @@ impl LevelCheck<'_, '_> {
         }
     }
 
-    /// The pieces among `left` that do not cancel: grouped by supporting
-    /// line, a set of segments is a zero 1-chain exactly when, at every
-    /// point of the line, as many segments start as end.
-    fn unbalanced(&mut self, left: &[(On, On)]) -> Vec<(On, On)> {
-        type Line = (Rat, Rat, Rat);
-        let mut lines: Vec<Option<Line>> = Vec::with_capacity(left.len());
-        let mut events: HashMap<(Line, Rat), i64> = HashMap::new();
-        for &(from, to) in left {
-            let (Ok(p), Ok(q)) = (self.element_point(from), self.element_point(to)) else {
-                lines.push(None);
-                continue;
-            };
-            if p == q {
-                lines.push(None);
-                continue;
-            }
-            // a x + b y = c with (a, b) = (-dy, dx), first non-zero made 1.
-            let (a, b) = (&p.y - &q.y, &q.x - &p.x);
-            let k = if a.is_zero() { b.clone() } else { a.clone() };
-            let (a, b) = (a / &k, b / &k);
-            let c = &a * &p.x + &b * &p.y;
-            let vertical = b.is_zero();
-            let t = |r: &Point2| if vertical { r.y.clone() } else { r.x.clone() };
-            let line = (a, b, c);
-            *events.entry((line.clone(), t(&p))).or_default() += 1;
-            *events.entry((line.clone(), t(&q))).or_default() -= 1;
-            lines.push(Some(line));
-        }
-        let bad: BTreeSet<&Line> = events
-            .iter()
-            .filter(|(_, &n)| n != 0)
-            .map(|((l, _), _)| l)
-            .collect();
-        left.iter()
-            .zip(&lines)
-            .filter(|(_, l)| l.as_ref().is_none_or(|l| bad.contains(l)))
-            .map(|(p, _)| *p)
-            .collect()
-    }
-
     /// Orientation, crossings and nesting of one family.
     fn check_family(
         &mut self,
@@ -574,7 +523,6 @@ impl LevelCheck<'_, '_> {
         count: usize,
         geoms: Vec<Geom>,
         orientation: Orientation,
-        both_ways: bool,
     ) {
         for g in &geoms {
             let Some(role) = g.role else { continue };
@@ -602,9 +550,77 @@ impl LevelCheck<'_, '_> {
                 );
             }
         }
-        let index: Vec<usize> = geoms.iter().map(|g| g.sub.unwrap_or(g.item)).collect();
         let pts: Vec<Vec<Pt>> = geoms.iter().map(|g| g.pts.clone()).collect();
         let loops = Loops::new(&pts);
+        self.check_contacts(family, &geoms, &loops, false);
+        if matches!(orientation, Orientation::Region(Facing::Flat)) {
+            return; // zero-area loops have no inside
+        }
+        let index: Vec<usize> = geoms.iter().map(|g| g.sub.unwrap_or(g.item)).collect();
+        let containers = loops.containers();
+        let depth: Vec<Option<usize>> = containers
+            .iter()
+            .map(|c| c.as_ref().map(Vec::len))
+            .collect();
+        for (l, g) in geoms.iter().enumerate() {
+            let place = self.at(family, Some(g.item), g.sub, None);
+            let Some(inside) = &containers[l] else {
+                self.push(place, Problem::NoInteriorSegment);
+                continue;
+            };
+            self.check_nesting(place, g, count, inside, &depth, &index);
+        }
+    }
+
+    /// Role and parent of one loop against its containers (indices into
+    /// the family's geoms; `depth` of each, `index` into the document).
+    fn check_nesting(
+        &mut self,
+        place: Place,
+        g: &Geom,
+        count: usize,
+        inside: &[usize],
+        depth: &[Option<usize>],
+        index: &[usize],
+    ) {
+        let d = inside.len();
+        let expected = if d % 2 == 0 { Role::Outer } else { Role::Hole };
+        if g.role.is_some_and(|r| r != expected) {
+            self.push(
+                place.clone(),
+                Problem::WrongRole {
+                    claimed: g.role_text.clone(),
+                    expected: expected.name(),
+                    depth: d,
+                },
+            );
+        }
+        // The parent is the deepest container (containers nest).
+        let deepest = inside.iter().filter_map(|&j| depth[j]).max();
+        let candidates: Vec<usize> = inside
+            .iter()
+            .filter(|&&j| depth[j] == deepest)
+            .map(|&j| index[j])
+            .collect();
+        let ok = match g.parent {
+            None => candidates.is_empty(),
+            Some(p) => candidates.iter().any(|&c| c as u64 == p),
+        };
+        if !ok || g.parent.is_some_and(|p| p >= count as u64) {
+            self.push(
+                place,
+                Problem::WrongParent {
+                    claimed: g.parent,
+                    expected: candidates.first().copied(),
+                },
+            );
+        }
+    }
+
+    /// Crossings, touches and overlaps within a family (`both_ways`: two
+    /// segments may run back along each other).
+    fn check_contacts(&mut self, family: Family, geoms: &[Geom], loops: &Loops, both_ways: bool) {
+        let index: Vec<usize> = geoms.iter().map(|g| g.sub.unwrap_or(g.item)).collect();
         let remap = |p: Problem| -> Problem {
             let fix = |o: Other| Other {
                 item: index[o.item],
@@ -627,53 +643,6 @@ impl LevelCheck<'_, '_> {
             let g = &geoms[l];
             let place = self.at(family, Some(g.item), g.sub, Some(k));
             self.push(place, remap(p));
-        }
-        if matches!(orientation, Orientation::Region(Facing::Flat)) {
-            return; // zero-area loops have no inside
-        }
-        let containers = loops.containers();
-        let depth: Vec<Option<usize>> = containers
-            .iter()
-            .map(|c| c.as_ref().map(Vec::len))
-            .collect();
-        for (l, g) in geoms.iter().enumerate() {
-            let place = self.at(family, Some(g.item), g.sub, None);
-            let Some(inside) = &containers[l] else {
-                self.push(place, Problem::NoInteriorSegment);
-                continue;
-            };
-            let d = inside.len();
-            let expected = if d % 2 == 0 { Role::Outer } else { Role::Hole };
-            if g.role.is_some_and(|r| r != expected) {
-                self.push(
-                    place.clone(),
-                    Problem::WrongRole {
-                        claimed: g.role_text.clone(),
-                        expected: expected.name(),
-                        depth: d,
-                    },
-                );
-            }
-            // The parent is the deepest container (containers nest).
-            let deepest = inside.iter().filter_map(|&j| depth[j]).max();
-            let candidates: Vec<usize> = inside
-                .iter()
-                .filter(|&&j| depth[j] == deepest)
-                .map(|&j| index[j])
-                .collect();
-            let ok = match g.parent {
-                None => candidates.is_empty(),
-                Some(p) => candidates.iter().any(|&c| c as u64 == p),
-            };
-            if !ok || g.parent.is_some_and(|p| p >= count as u64) {
-                self.push(
-                    place,
-                    Problem::WrongParent {
-                        claimed: g.parent,
-                        expected: candidates.first().copied(),
-                    },
-                );
-            }
         }
     }
 }

@@ -131,7 +131,7 @@ impl LevelCheck<'_, '_> {
                     }
                 }
             }
-            self.check_pieces(Family::Boundary, Some(r), &reg.boundary, pieces, true);
+            self.check_pieces(Family::Boundary, Some(r), &reg.boundary, pieces);
             let geoms = self.loops(Family::Boundary, Some(r), &reg.boundary);
             let Some(facing) = Facing::parse(&reg.facing) else {
                 continue;
@@ -158,7 +158,6 @@ impl LevelCheck<'_, '_> {
                 reg.boundary.len(),
                 geoms,
                 Orientation::Region(facing),
-                false,
             );
         }
     }

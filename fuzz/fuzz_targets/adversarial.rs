@@ -1,0 +1,115 @@
+//! Input: arbitrary bytes -> a closed slab (`Slab::split_bytes`) made
+//! adversarial as real files are: slivers (a vertex on an edge, its zero
+//! area face in or out of a slicing plane), a second copy of the body
+//! overlapping, touching or apart, coordinates rounded to `f32`, and the
+//! whole mesh scaled by `2^k` for `k` across the double range.
+//! Output: nothing; panics on a bug. The mesh must be refused by name
+//! (degenerate faces repaired first, as the CLI does), or sliced at every
+//! vertex height and between with every invariant of SPEC section 7
+//! (`check_level_invariants`). An internal error on an accepted mesh is
+//! the failure this target exists to find.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+use std::borrow::Cow;
+use wmslice::datasets::slab::{heights_and_midpoints, Slab};
+use wmslice::exact::predicates::is_degenerate_triangle;
+use wmslice::ids::VertexId;
+use wmslice::levelset::check::check_level_invariants;
+use wmslice::levelset::SliceError;
+use wmslice::mesh::flip::repair_degenerate;
+use wmslice::Mesh;
+
+/// Replaces face `f = (a, b, c)` by `(a, m, c)`, `(m, b, c)` and the sliver
+/// `(a, b, m)` with `m` strictly inside `ab` (the exact midpoint, when it
+/// is a double): still closed and oriented.
+fn add_sliver(mesh: &mut Mesh, f: usize, corner: usize) {
+    let t = mesh.faces[f];
+    let (a, b, c) = (t[corner], t[(corner + 1) % 3], t[(corner + 2) % 3]);
+    let (pa, pb) = (mesh.pos(a), mesh.pos(b));
+    let mid = [0, 1, 2].map(|k| pa[k] / 2.0 + pb[k] / 2.0);
+    let inside = is_degenerate_triangle(pa, pb, mid) && mid != pa && mid != pb;
+    if !inside || mid.iter().any(|v| !v.is_finite()) {
+        return;
+    }
+    let m = VertexId(mesh.positions.len() as u32);
+    mesh.positions.push(mid);
+    mesh.faces[f] = [a, m, c];
+    mesh.faces.push([m, b, c]);
+    mesh.faces.push([a, b, m]);
+}
+
+/// Adds a translated copy of the mesh (its own vertex ids).
+fn add_copy(mesh: &mut Mesh, shift: [f64; 3]) {
+    let n = mesh.positions.len() as u32;
+    let pos: Vec<[f64; 3]> = mesh
+        .positions
+        .iter()
+        .map(|p| [0, 1, 2].map(|k| p[k] + shift[k]))
+        .collect();
+    let faces: Vec<[VertexId; 3]> = mesh
+        .faces
+        .iter()
+        .map(|t| t.map(|v| VertexId(v.0 + n)))
+        .collect();
+    mesh.positions.extend(pos);
+    mesh.faces.extend(faces);
+}
+
+fn adversarial(data: &[u8]) -> Mesh {
+    let (slab, rest) = Slab::split_bytes(data);
+    let mut mesh = slab.mesh();
+    let mut ops = rest.chunks_exact(3);
+    for op in ops.by_ref().take(6) {
+        match op[0] % 4 {
+            0 => {
+                let f = usize::from(op[1]) % mesh.num_faces();
+                add_sliver(&mut mesh, f, usize::from(op[2]) % 3);
+            }
+            1 => {
+                // Overlapping (half steps), touching (whole steps) or apart.
+                let s = |b: u8| f64::from(i32::from(b % 9) - 4) / 2.0;
+                add_copy(&mut mesh, [s(op[1]), s(op[2]), s(op[1] / 9)]);
+            }
+            2 => {
+                // As a CAD tool stores it: rounded to f32 after a shear.
+                let k = f64::from(op[1]) / 7.0;
+                for p in &mut mesh.positions {
+                    p[0] = f64::from((p[0] + k * p[2]) as f32);
+                }
+            }
+            _ => {
+                let k = i32::from(i16::from_le_bytes([op[1], op[2]])) % 1000;
+                for p in &mut mesh.positions {
+                    *p = p.map(|v| v * 2f64.powi(k));
+                }
+            }
+        }
+    }
+    mesh
+}
+
+fuzz_target!(|data: &[u8]| {
+    let mesh = adversarial(data);
+    let repaired = repair_degenerate(&mesh);
+    let mesh: Cow<'_, Mesh> = repaired.mesh;
+    let slicer = match wmslice::Slicer::new(&mesh) {
+        Ok(s) => s,
+        Err(SliceError::InvalidMesh(report)) => {
+            // Refused by name: at least one blocking defect listed.
+            assert!(report.errors().next().is_some(), "refused without a defect");
+            return;
+        }
+        Err(e) => panic!("validation failed without a report: {e}"),
+    };
+    let levels = heights_and_midpoints(&mesh);
+    for c in levels.iter().take(40) {
+        let ls = match slicer.slice_at(c) {
+            Ok(ls) => ls,
+            Err(e) => panic!("internal error on an accepted mesh at {c}: {e}\n{mesh:?}"),
+        };
+        if let Err(e) = check_level_invariants(&mesh, slicer.topology(), &ls) {
+            panic!("invariant violated at {c}: {e}\n{mesh:?}");
+        }
+    }
+});

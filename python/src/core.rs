@@ -1,0 +1,112 @@
+//! Input: a mesh as read (or made from arrays) and an optional snap grid.
+//! Output: a [`MeshCore`]: the mesh as sliced (snapped, degenerate faces
+//! flipped: `wmslice::mesh::prepare`, as the command line does), validated,
+//! with its topology, held with its [`Slicer`] for every later call, and
+//! the JSON header made on first use.
+
+use std::sync::OnceLock;
+use wmslice::exact::rational::Rat;
+use wmslice::mesh::flip::Flip;
+use wmslice::mesh::prepare::{prepare, SnapStats};
+use wmslice::mesh::snap::SnapError;
+use wmslice::mesh::validate::Report;
+use wmslice::output::json::MeshHeader;
+use wmslice::{Mesh, SliceError, Slicer};
+
+/// The mesh and its grid unit (1 when not snapped): what the slicer borrows.
+pub struct Owner {
+    pub mesh: Mesh,
+    pub unit: Rat,
+}
+
+type SlicerOf<'a> = Slicer<'a>;
+
+self_cell::self_cell!(
+    /// A mesh with the slicer made for it (validation and topology once).
+    struct Cell {
+        owner: Owner,
+        #[covariant]
+        dependent: SlicerOf,
+    }
+);
+
+/// Why a mesh cannot be made ready.
+pub enum CoreError {
+    /// Snapping refused the grid or the mesh.
+    Snap(SnapError),
+    /// Validation refused the mesh.
+    Invalid(Box<Report>),
+    /// Any other slicer error (a bug).
+    Internal(SliceError),
+}
+
+/// A mesh ready to slice.
+pub struct MeshCore {
+    cell: Cell,
+    /// What snapping did, when snapped.
+    pub snap: Option<SnapStats>,
+    /// The degenerate faces removed by edge flips.
+    pub flips: Vec<Flip>,
+    header: OnceLock<MeshHeader>,
+}
+
+impl MeshCore {
+    /// Snaps (when `q` is given), flips degenerate faces, validates and
+    /// builds the topology.
+    pub fn new(mesh: Mesh, q: Option<&Rat>) -> Result<Self, CoreError> {
+        let p = prepare(mesh, q).map_err(CoreError::Snap)?;
+        Self::prepared(p.mesh, p.unit, p.snap, p.flips)
+    }
+
+    /// Validates a mesh already prepared (unpickling): `unit` is its grid.
+    pub fn prepared(
+        mesh: Mesh,
+        unit: Option<Rat>,
+        snap: Option<SnapStats>,
+        flips: Vec<Flip>,
+    ) -> Result<Self, CoreError> {
+        let owner = Owner {
+            mesh,
+            unit: unit.unwrap_or_else(|| Rat::from_integer(1.into())),
+        };
+        let cell =
+            Cell::try_new(owner, |o| Slicer::with_unit(&o.mesh, o.unit.clone())).map_err(|e| {
+                match e {
+                    SliceError::InvalidMesh(r) => CoreError::Invalid(r),
+                    other => CoreError::Internal(other),
+                }
+            })?;
+        Ok(MeshCore {
+            cell,
+            snap,
+            flips,
+            header: OnceLock::new(),
+        })
+    }
+
+    /// The slicer.
+    pub fn slicer(&self) -> &Slicer<'_> {
+        self.cell.borrow_dependent()
+    }
+
+    /// The mesh as sliced (stored units).
+    pub fn mesh(&self) -> &Mesh {
+        &self.cell.borrow_owner().mesh
+    }
+
+    /// The grid unit: true coordinate = stored * unit.
+    pub fn unit(&self) -> &Rat {
+        &self.cell.borrow_owner().unit
+    }
+
+    /// The snap grid, when snapped.
+    pub fn grid(&self) -> Option<&Rat> {
+        self.snap.as_ref().map(|s| &s.grid)
+    }
+
+    /// The JSON header (the mesh's SHA-256 is computed on first use).
+    pub fn header(&self) -> &MeshHeader {
+        self.header
+            .get_or_init(|| MeshHeader::new(self.mesh(), self.grid()))
+    }
+}

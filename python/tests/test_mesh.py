@@ -1,0 +1,154 @@
+"""Meshes from numpy arrays and files: dtypes, answers derived by hand on
+the unit cube, and every error as a typed Python exception."""
+
+import math
+from fractions import Fraction
+
+import numpy as np
+import pytest
+
+import wmslice
+from conftest import torus, unit_cube
+
+
+def shoelace(p: np.ndarray) -> float:
+    x, y = p[:, 0], p[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+
+
+def test_cube_at_half_is_the_unit_square():
+    m = wmslice.Mesh(*unit_cube())
+    ls = m.slice("1/2", exact=True)
+    assert len(ls.contours) == 1
+    (loop,) = ls.contours
+    assert loop.points.dtype == np.float64 and loop.points.ndim == 2 and loop.points.shape[1] == 2
+    # Four vertical edges and four side diagonals cross z = 1/2.
+    assert len(loop.points) == 8
+    assert {tuple(p) for p in loop.points} >= {(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)}
+    on_square = (np.isin(loop.points[:, 0], [0, 1]) | np.isin(loop.points[:, 1], [0, 1])).all()
+    assert on_square
+    assert loop.area_exact == 1 and loop.area == 1.0 and shoelace(loop.points) == 1.0
+    assert loop.role == "outer" and loop.parent is None and not loop.collapsed
+    assert all(kind in ("edge", "vertex") for kind, _ in loop.on)
+    assert [(float(x), float(y)) for x, y in loop.exact] == [tuple(p) for p in loop.points]
+    # No vertex on the plane: L- and L+ are S_O.
+    assert [l.area for l in ls.below] == [1.0] and [l.area for l in ls.above] == [1.0]
+    assert ls.faces == [] and ls.ridges == [] and ls.points == [] and ls.saddles == []
+
+
+def test_cube_at_its_top_and_bottom_faces():
+    m = wmslice.Mesh(*unit_cube())
+    top = m.slice(1)
+    assert top.contours == []
+    (region,) = top.faces
+    assert region.facing == "up" and list(region.faces) == [2, 3] and region.area == 1
+    assert [l.area for l in region.boundary] == [1.0]
+    assert [l.area for l in top.below] == [1.0] and top.above == []
+    bottom = m.slice(0.0)
+    (region,) = bottom.faces
+    assert region.facing == "down" and list(region.faces) == [0, 1]
+    assert bottom.below == [] and [l.area for l in bottom.above] == [1.0]
+
+
+def test_dtypes_in_give_the_same_level_sets():
+    v, f = torus(40, 12)
+    ref = wmslice.Mesh(v.astype(np.float64), f).slice_many([0, 3, "7/2"], exact=True).to_json()
+    for vv in (v, v.astype(np.float64), np.asfortranarray(v), v.astype(np.float64)[:, [0, 1, 2]]):
+        for ff in (f, f.astype(np.int32), f.astype(np.uint32), f.astype(np.uint64), np.asfortranarray(f)):
+            assert wmslice.Mesh(vv, ff).slice_many([0, 3, "7/2"], exact=True).to_json() == ref
+    # Lists work too.
+    assert wmslice.Mesh(v.tolist(), f.tolist()).slice_many([0, 3, "7/2"], exact=True).to_json() == ref
+
+
+def test_float32_vertices_are_taken_exactly():
+    v, f = torus(30, 10)
+    m = wmslice.Mesh(v, f)
+    assert np.array_equal(m.vertices, v.astype(np.float64))
+    assert m.faces.dtype == np.uint32 and np.array_equal(m.faces, f)
+    assert m.z_range == (Fraction(float(v[:, 2].min())), Fraction(float(v[:, 2].max())))
+
+
+def test_an_open_mesh_is_refused_by_name():
+    v, f = unit_cube()
+    with pytest.raises(wmslice.InvalidMesh) as e:
+        wmslice.Mesh(v, f[:-1])  # one triangle of the x = 1 side removed
+    assert isinstance(e.value, ValueError)
+    kinds = {d["kind"] for d in e.value.defects}
+    assert kinds == {"open_edge"}
+    # The triangle (3, 7, 5) is gone: its three edges are open, each named.
+    edges = {frozenset((d["a"], d["b"])) for d in e.value.defects}
+    assert edges == {frozenset((3, 7)), frozenset((7, 5)), frozenset((5, 3))}
+    assert "open edge" in str(e.value)
+
+
+def test_a_nan_coordinate_is_refused_by_vertex():
+    v, f = unit_cube()
+    v[5, 2] = np.nan
+    with pytest.raises(ValueError) as e:
+        wmslice.Mesh(v, f)
+    assert isinstance(e.value, wmslice.InvalidMesh)
+    assert e.value.defects[0]["kind"] == "non_finite_coordinate"
+    assert e.value.defects[0]["vertex"] == 5
+    assert "v5" in str(e.value)
+    # Snapping refuses it by name as well.
+    with pytest.raises(wmslice.InvalidMesh, match="v5"):
+        wmslice.Mesh(v, f, snap="1/100")
+
+
+def test_bad_indices_and_shapes():
+    v, f = unit_cube()
+    g = f.copy()
+    g[4, 1] = -1
+    with pytest.raises(wmslice.InvalidMesh) as e:
+        wmslice.Mesh(v, g)
+    assert e.value.defects[0]["kind"] == "index_out_of_range"
+    assert (e.value.defects[0]["face"], e.value.defects[0]["corner"]) == (4, 1)
+    g[4, 1] = 8
+    with pytest.raises(wmslice.InvalidMesh, match="f4"):
+        wmslice.Mesh(v, g)
+    with pytest.raises(ValueError):
+        wmslice.Mesh(v[:, :2], f)
+    with pytest.raises(ValueError):
+        wmslice.Mesh(v, f[:, :2])
+    with pytest.raises(TypeError):
+        wmslice.Mesh(v, f.astype(np.float64))
+    with pytest.raises(wmslice.InvalidMesh, match="no faces"):
+        wmslice.Mesh(v, np.zeros((0, 3), dtype=np.int64))
+
+
+def test_inside_out_is_refused():
+    v, f = unit_cube()
+    with pytest.raises(wmslice.InvalidMesh) as e:
+        wmslice.Mesh(v, f[:, ::-1])
+    assert [d["kind"] for d in e.value.defects if d["severity"] == "error"] == ["not_outward"]
+
+
+def test_files_every_format_and_errors(cli, scratch):
+    for ext in ("stl", "obj", "off", "ply"):
+        path = scratch / f"t.{ext}"
+        cli("gen", "double_torus", "-o", str(path))
+        m = wmslice.load(str(path))
+        expected = cli("slice", str(path), "--at", "0", "--at", "1", "--format", "json", "--exact")
+        assert m.slice_many([0, 1], exact=True).to_json().encode() == expected
+    # OBJ, OFF and PLY keep the dataset's vertex order: the same mesh hash.
+    assert wmslice.load(scratch / "t.off").sha256 == wmslice.dataset("double_torus").sha256
+    with pytest.raises(FileNotFoundError):
+        wmslice.load(scratch / "missing.stl")
+    bad = scratch / "bad.off"
+    bad.write_text("OFF\n3 1 0\n0 0 0\n")
+    with pytest.raises(ValueError):
+        wmslice.load(bad)
+    with pytest.raises(ValueError):
+        wmslice.dataset("no_such_dataset")
+
+
+def test_snap_moves_to_the_grid_and_is_reported():
+    v, f = unit_cube()
+    v = v * np.float32(0.6)  # 0.6 as a float32 times the corners: not multiples of 1/10
+    m = wmslice.Mesh(v.astype(np.float32), f, snap="1/10")
+    assert m.snap == "1/10"
+    assert m.snap_report["moved"] > 0 and m.snap_report["grid"] == Fraction(1, 10)
+    ls = m.slice("0.6", exact=True)
+    (region,) = ls.faces
+    assert region.facing == "up" and region.area == Fraction(9, 25)
+    assert math.isclose(m.vertices.max(), 0.6)

@@ -1,0 +1,523 @@
+//! Input: an edge's two positions (doubles) and an exact level. Output:
+//! the nearest doubles of the crossing point, certified, without building
+//! its exact value; and [`Crossings`], which picks the number path of each
+//! loop point (grid, per-edge integers, certified double-double, big
+//! rationals) and counts the paths taken.
+//!
+//! The crossing of edge `(a, b)` with `z = c` is, per coordinate,
+//! `x = (ax U + bx V) / D` with `D = bz - az`, `U = bz - c`, `V = c - az`
+//! (a convex combination: `U / D` and `V / D` lie in `[0, 1]` when `c`
+//! lies between the heights). [`certified_crossing`] evaluates it in
+//! double-double arithmetic (error-free transformations: `TwoSum`, and
+//! `TwoProd` by a fused multiply-add) with a proven bound `B` on
+//! `|x - (x0 + x1)|`, then returns the double nearest `x` only when the
+//! interval `[x0 + x1 - B, x0 + x1 + B]` lies strictly inside the rounding
+//! interval of one double; otherwise `None`, and the caller computes the
+//! exact value. Its cost does not depend on where the coordinates lie
+//! (only their range is bounded, so that nothing underflows or
+//! overflows). The derivation of `B` is on `coordinate` (below).
+
+use super::grid::{GridLevel, MeshGrid};
+use super::level::Level;
+use super::point::LoopPoint;
+use super::rational::{rat_from_f64, rat_to_f64};
+use crate::ids::VertexId;
+use std::cell::Cell;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
+
+/// The unit roundoff of `f64`, `u = 2^-53`.
+const U: f64 = f64::EPSILON / 2.0;
+
+/// Inputs are zero or of magnitude in `[2^-300, 2^300]`; intermediate
+/// heights in `[2^-400, 2^400]`, results in `[2^-500, 2^500]`: so every
+/// product is exact by `TwoProd` (no underflow of its low part) and no
+/// bound underflows or overflows.
+const IN_LO: f64 = f64::from_bits((1023 - 300) << 52);
+const IN_HI: f64 = f64::from_bits((1023 + 300) << 52);
+const MID_LO: f64 = f64::from_bits((1023 - 400) << 52);
+const MID_HI: f64 = f64::from_bits((1023 + 400) << 52);
+const OUT_LO: f64 = f64::from_bits((1023 - 500) << 52);
+const OUT_HI: f64 = f64::from_bits((1023 + 500) << 52);
+
+/// `2^-700`: covers every error that the relative bounds miss because a
+/// product underflowed (see [`coordinate`]).
+const ABS: f64 = f64::from_bits((1023 - 700) << 52);
+/// `2^-1000`: covers the bound's own underflows.
+const ABS_BOUND: f64 = f64::from_bits((1023 - 1000) << 52);
+
+/// `a + b = s + e` exactly (Knuth's TwoSum; exact for all finite inputs
+/// whose sum does not overflow).
+#[inline(always)]
+fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    let bb = s - a;
+    (s, (a - (s - bb)) + (b - bb))
+}
+
+/// `a b = p + e` exactly (TwoProd by FMA; exact when the exponents of `a`
+/// and `b` sum to at least `-969`, so that `e` does not underflow).
+#[inline(always)]
+fn two_prod(a: f64, b: f64) -> (f64, f64) {
+    let p = a * b;
+    (p, a.mul_add(b, -p))
+}
+
+fn in_range(v: f64, lo: f64, hi: f64) -> bool {
+    v == 0.0 || (lo..=hi).contains(&v.abs())
+}
+
+/// A level as a double-double: `|c - (hi + lo)| <= err`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LevelApprox {
+    hi: f64,
+    lo: f64,
+    err: f64,
+}
+
+impl LevelApprox {
+    /// `hi` the nearest double of `c`, `lo` the nearest double of
+    /// `c - hi` (so `err = u |lo|`); `None` out of the range of
+    /// [`certified_crossing`] (then every crossing takes the exact path).
+    pub fn new(level: &Level) -> Option<LevelApprox> {
+        let c = level.value();
+        let hi = rat_to_f64(c);
+        if !in_range(hi, IN_LO, IN_HI) {
+            return None;
+        }
+        let lo = rat_to_f64(&(c - rat_from_f64(hi)));
+        // |lo| <= u |hi|; below 2^-1000 it could be subnormal (then the
+        // relative bound fails): refused.
+        if !in_range(lo, f64::from_bits((1023 - 1000) << 52), IN_HI) {
+            return None;
+        }
+        Some(LevelApprox {
+            hi,
+            lo,
+            err: U * lo.abs(),
+        })
+    }
+}
+
+/// The nearest double of one coordinate of the crossing,
+/// `x = (ax U + bx V) / D`, when the certified bound decides it; `az`,
+/// `bz` the heights (`az != bz`), `(u_h, u_l, u_e)` and `(v_h, v_l, v_e)`
+/// `U` and `V` as double-doubles with error bounds, `(d_h, d_l)` = `D`
+/// exactly.
+///
+/// Derivation (every `fl` rounds to nearest, `u = 2^-53`; ranges as in
+/// `IN_LO..MID_HI`, so TwoSum and TwoProd are exact and nothing
+/// underflows):
+///
+/// 1. `(P1, p1) = TwoProd(ax, Uh)`, `q1 = fl(ax Ul)`, likewise `P2, p2`
+///    from `bx, Vh` and `q2 = fl(bx Vl)`; `(S, s) = TwoSum(P1, P2)`;
+///    `t = fl(((s + p1) + p2) + (q1 + q2))`; `(Nh, Nl) = TwoSum(S, t)`.
+///    Then `N = ax U + bx V = Nh + Nl + eN` with
+///    `|eN| <= g4 (|s| + |p1| + |p2| + |ax Ul| + |bx Vl|)
+///    + u (|ax Ul| + |bx Vl|) + |ax| Ue + |bx| Ve`, `g4 = 4u / (1 - 4u)`
+///    (recursive summation of five terms, two rounded products, and the
+///    errors of `U` and `V`). With `|ax Ul| <= |q1| (1 + 2u)`:
+///    `|eN| <= 5u (|s| + |p1| + |p2| + |q1| + |q2|) + |ax| Ue + |bx| Ve`.
+/// 2. `x0 = fl(Nh / Dh)`, `(P, p) = TwoProd(x0, Dh)`. `Nh - P` is exact
+///    (Sterbenz: `P` is within a factor `(1 + u)^2` of `Nh`, same sign).
+///    `R = N - x0 (Dh + Dl) = (Nh - P) - p + Nl - x0 Dl + eN` exactly;
+///    `r = fl(fl((Nh - P) - p) + fl(Nl - fl(x0 Dl)))`, with
+///    `|R - r| <= 3u (|Nh - P| + |p| + |Nl| + |x0 Dl|) + u |x0 Dl| + |eN|
+///    =: eR` (three additions of four terms, one product; the `3u`
+///    absorbs `g3`'s `1 / (1 - 3u)` with the slack below).
+/// 3. `x = x0 + R / (Dh + Dl)`; `x1 = fl(r / Dh)`. With `|Dl| <= u |Dh|`:
+///    `|R / (Dh + Dl) - x1| <= |r / Dh| (u + 2u) + eR / (|Dh| (1 - u))`,
+///    so `|x - (x0 + x1)| <= 3.01u |x1| + 1.01 eR / |Dh|`.
+///
+/// Underflow: a sum that underflows is exact, and TwoProd is exact in the
+/// ranges checked (`|ax Uh| >= 2^-700`; `|x0 Dh|` is near `|Nh|`, which
+/// is at least `2^-900` whenever `|f| >= 2^-500` is accepted below). A
+/// rounded product that underflows (`q1`, `q2`, `x0 Dl`, and the
+/// products that evaluate `Ue`, `Ve`, `eN`, `eR`) errs by at most
+/// `2^-1074` beyond its relative bound, multiplied by at most `2^300`
+/// (`|ax| Ue`): below `2^-770` in all. `ABS = 2^-700`, added to `|eN|`
+/// and to `eR`, covers it.
+///
+/// The bound is evaluated in rounded arithmetic on non-negative terms
+/// (fewer than 30 operations, each raising at most `u` relatively), then
+/// doubled, plus `2^-1000` for the underflow of its smallest terms: a
+/// safe upper bound. `(f, e) = TwoSum(x0, x1)`, `f` the
+/// candidate; `x0 + x1 - f = e` exactly. The exact `x` rounds to `f` when
+/// `e + B < g+/2` and `e - B > -g-/2` (`g+`, `g-` the gaps to `f`'s
+/// neighbours, halved exactly); each test is on a rounded sum compared
+/// with a double, which rounding cannot flip (rounding is monotone). Ties
+/// are never decided here.
+#[inline]
+#[allow(clippy::too_many_arguments)]
+fn coordinate(
+    ax: f64,
+    bx: f64,
+    (u_h, u_l, u_e): (f64, f64, f64),
+    (v_h, v_l, v_e): (f64, f64, f64),
+    (d_h, d_l): (f64, f64),
+) -> Option<f64> {
+    if ax == bx {
+        // A convex combination of one value (also when both are zero;
+        // `+ 0.0` writes a zero as `0`, as the exact path rounds it).
+        return Some(ax + 0.0);
+    }
+    let (p1h, p1l) = two_prod(ax, u_h);
+    let q1 = ax * u_l;
+    let (p2h, p2l) = two_prod(bx, v_h);
+    let q2 = bx * v_l;
+    let (s_h, s_l) = two_sum(p1h, p2h);
+    let t = ((s_l + p1l) + p2l) + (q1 + q2);
+    let (n_h, n_l) = two_sum(s_h, t);
+    let e_n = 5.0 * U * (s_l.abs() + p1l.abs() + p2l.abs() + q1.abs() + q2.abs())
+        + ax.abs() * u_e
+        + bx.abs() * v_e
+        + ABS;
+    let x0 = n_h / d_h;
+    let (p, pl) = two_prod(x0, d_h);
+    let diff = n_h - p;
+    let x0dl = x0 * d_l;
+    let r = (diff - pl) + (n_l - x0dl);
+    let e_r =
+        3.0 * U * (diff.abs() + pl.abs() + n_l.abs() + x0dl.abs()) + U * x0dl.abs() + e_n + ABS;
+    let x1 = r / d_h;
+    let bound = 2.0 * (3.01 * U * x1.abs() + 1.01 * e_r / d_h.abs()) + ABS_BOUND;
+    let (f, e) = two_sum(x0, x1);
+    if !(OUT_LO..=OUT_HI).contains(&f.abs()) || !bound.is_finite() {
+        return None;
+    }
+    // Work on |f|: the gaps above and below it, halved (exact).
+    let (e, m) = if f > 0.0 { (e, f) } else { (-e, -f) };
+    let up = (m.next_up() - m) / 2.0;
+    let down = (m - m.next_down()) / 2.0;
+    (e + bound < up && e - bound > -down).then_some(f)
+}
+
+/// The nearest doubles of the crossing of edge `(a, b)` with the level,
+/// when the certified bound decides both (see `coordinate`); `None`
+/// out of range or when undecided. The caller guarantees `az != bz`.
+#[inline]
+pub fn certified_crossing(a: [f64; 3], b: [f64; 3], c: &LevelApprox) -> Option<[f64; 2]> {
+    let (az, bz) = (a[2], b[2]);
+    if ![a[0], a[1], az, b[0], b[1], bz]
+        .iter()
+        .all(|&v| in_range(v, IN_LO, IN_HI))
+    {
+        return None;
+    }
+    // D exactly; U = bz - c and V = c - az as double-doubles (the level's
+    // error plus one rounding each: TwoSum is exact).
+    let (d_h, d_l) = two_sum(bz, -az);
+    let (v1, v2) = two_sum(c.hi, -az);
+    let v3 = v2 + c.lo;
+    let (v_h, v_l) = two_sum(v1, v3);
+    let v_e = U * v3.abs() + c.err;
+    let (u1, u2) = two_sum(bz, -c.hi);
+    let u3 = u2 - c.lo;
+    let (u_h, u_l) = two_sum(u1, u3);
+    let u_e = U * u3.abs() + c.err;
+    if ![d_h, v_h, u_h].iter().all(|&v| in_range(v, MID_LO, MID_HI)) || d_h == 0.0 {
+        return None;
+    }
+    let uu = (u_h, u_l, u_e);
+    let vv = (v_h, v_l, v_e);
+    let x = coordinate(a[0], b[0], uu, vv, (d_h, d_l))?;
+    let y = coordinate(a[1], b[1], uu, vv, (d_h, d_l))?;
+    Some([x, y])
+}
+
+/// The number path a loop point took.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NumberPath {
+    /// Integers on the mesh's one binary grid ([`MeshGrid`]).
+    Grid,
+    /// Integers on the edge's own binary grid (`i128`).
+    Edge,
+    /// Certified double-double; the exact value built only on demand.
+    Certified,
+    /// Big rationals.
+    Big,
+}
+
+impl NumberPath {
+    /// Every path, in the order they are tried.
+    pub const ALL: [NumberPath; 4] = [
+        NumberPath::Grid,
+        NumberPath::Edge,
+        NumberPath::Certified,
+        NumberPath::Big,
+    ];
+
+    /// The path's name as `--verbose` prints it.
+    pub fn name(self) -> &'static str {
+        match self {
+            NumberPath::Grid => "grid",
+            NumberPath::Edge => "per-edge",
+            NumberPath::Certified => "certified",
+            NumberPath::Big => "big",
+        }
+    }
+}
+
+static TAKEN: [AtomicU64; 4] = [
+    AtomicU64::new(0),
+    AtomicU64::new(0),
+    AtomicU64::new(0),
+    AtomicU64::new(0),
+];
+
+/// How many loop points took each path since the process started (or
+/// since [`reset_path_counts`]), in the order of [`NumberPath::ALL`].
+pub fn path_counts() -> [u64; 4] {
+    TAKEN.each_ref().map(|c| c.load(Ordering::Relaxed))
+}
+
+/// Sets the counts of [`path_counts`] to zero.
+pub fn reset_path_counts() {
+    TAKEN.iter().for_each(|c| c.store(0, Ordering::Relaxed));
+}
+
+/// Builds the exact loop points of one level: on the mesh's grid when
+/// the mesh and the level fit it, else per edge. Counts the paths taken
+/// (added to [`path_counts`] when dropped).
+pub struct Crossings<'a> {
+    grid: Option<(&'a MeshGrid, GridLevel)>,
+    level: Arc<Level>,
+    approx: Option<LevelApprox>,
+    taken: [Cell<u64>; 4],
+}
+
+impl<'a> Crossings<'a> {
+    /// The point builder of one level (`level` in the mesh's stored units).
+    pub fn new(grid: Option<&'a MeshGrid>, level: &Level) -> Self {
+        let grid = grid.and_then(|g| Some((g, g.level(level)?)));
+        Crossings {
+            grid,
+            approx: if grid.is_none() {
+                LevelApprox::new(level)
+            } else {
+                None
+            },
+            level: Arc::new(level.clone()),
+            taken: Default::default(),
+        }
+    }
+
+    fn count(&self, path: NumberPath) {
+        let c = &self.taken[path as usize];
+        c.set(c.get() + 1);
+    }
+
+    /// The exact point of vertex `v` at position `p`.
+    #[inline]
+    pub fn vertex(&self, v: VertexId, p: [f64; 3]) -> LoopPoint {
+        match &self.grid {
+            Some((g, _)) => {
+                self.count(NumberPath::Grid);
+                g.point(v)
+            }
+            None => {
+                let lp = LoopPoint::of_vertex(p);
+                self.count(if lp.as_integers().is_some() {
+                    NumberPath::Edge
+                } else {
+                    NumberPath::Big
+                });
+                lp
+            }
+        }
+    }
+
+    /// The exact crossing of edge `(a, b)` (positions `pa`, `pb`,
+    /// `h(a) != h(b)`) with the level.
+    #[inline]
+    pub fn crossing(&self, a: VertexId, b: VertexId, pa: [f64; 3], pb: [f64; 3]) -> LoopPoint {
+        if let Some((g, level)) = &self.grid {
+            self.count(NumberPath::Grid);
+            return g.crossing(a, b, level);
+        }
+        let (lp, path) = LoopPoint::on_edge_with(pa, pb, &self.level, self.approx.as_ref());
+        self.count(path);
+        lp
+    }
+}
+
+impl Drop for Crossings<'_> {
+    fn drop(&mut self) {
+        for (total, c) in TAKEN.iter().zip(&self.taken) {
+            if c.get() > 0 {
+                total.fetch_add(c.get(), Ordering::Relaxed);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::exact::point::Point2;
+    use crate::exact::rational::Rat;
+    use num_traits::Signed;
+    use proptest::prelude::*;
+
+    /// Doubles across the whole range: any finite bit pattern, subnormals,
+    /// `f32` values, small integers and decimals, near-zero noise, and
+    /// mantissas with random exponents.
+    fn coordinate_value() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            any::<u64>()
+                .prop_map(f64::from_bits)
+                .prop_filter("finite", |v| v.is_finite()),
+            (any::<i64>(), -1074i32..-1000).prop_map(|(m, e)| (m >> 11) as f64 * 2f64.powi(e)),
+            any::<u32>()
+                .prop_map(f32::from_bits)
+                .prop_filter("finite", |v| v.is_finite())
+                .prop_map(f64::from),
+            (-1000i32..1000).prop_map(f64::from),
+            (-100000i32..100000).prop_map(|k| f64::from(k) * 0.001),
+            (any::<i32>(), -60i32..-40).prop_map(|(m, e)| f64::from(m) * 2f64.powi(e - 31)),
+            (any::<i64>(), -400i32..400).prop_map(|(m, e)| (m >> 11) as f64 * 2f64.powi(e)),
+        ]
+    }
+
+    /// A level: a fraction of the way between the heights (decimal or
+    /// arbitrary), a decimal near them, or an arbitrary rational.
+    fn level_for(za: f64, zb: f64, kind: u8, p: i64, q: i64) -> Rat {
+        let (ra, rb) = (rat_from_f64(za), rat_from_f64(zb));
+        let q = q.unsigned_abs().max(1);
+        match kind {
+            0 => &ra + (&rb - &ra) * Rat::new((p.unsigned_abs() % q).into(), q.into()),
+            1 => &ra + (&rb - &ra) * Rat::new((p.unsigned_abs() % 1000).into(), 1000.into()),
+            2 => {
+                // The decimal with four digits after the point nearest the middle.
+                let mid = (ra + rb) / Rat::from_integer(2.into());
+                let scaled = (mid * Rat::from_integer(10000.into())).round();
+                scaled / Rat::from_integer(10000.into())
+            }
+            _ => Rat::new(p.into(), q.into()),
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(4096))]
+
+        /// A certified result is the nearest double of the exact crossing
+        /// (the big-rational reference), coordinate by coordinate; the
+        /// lazy point's exact value and equality agree with the reference.
+        #[test]
+        fn certified_doubles_are_the_nearest(
+            a in proptest::array::uniform3(coordinate_value()),
+            b in proptest::array::uniform3(coordinate_value()),
+            kind in 0u8..4, p in any::<i64>(), q in any::<i64>(),
+        ) {
+            prop_assume!(a[2] != b[2]);
+            let level = Level::new(level_for(a[2], b[2], kind, p, q));
+            let reference = Point2::on_edge_reference(a, b, &level);
+            let nearest = reference.to_f64();
+            let approx = LevelApprox::new(&level);
+            if let Some(c) = &approx {
+                if let Some(r) = certified_crossing(a, b, c) {
+                    prop_assert_eq!(r.map(f64::to_bits), nearest.map(f64::to_bits));
+                }
+            }
+            let shared = Arc::new(level);
+            let (lp, _) = LoopPoint::on_edge_with(a, b, &shared, approx.as_ref());
+            let (back, _) = LoopPoint::on_edge_with(b, a, &shared, approx.as_ref());
+            prop_assert_eq!(lp.to_f64().map(f64::to_bits), nearest.map(f64::to_bits));
+            prop_assert_eq!(lp.zero_coordinates(), [reference.x == Rat::from_integer(0.into()), reference.y == Rat::from_integer(0.into())]);
+            prop_assert_eq!(lp.exact().into_owned(), reference.clone());
+            prop_assert!(lp == back);
+            prop_assert!(lp == LoopPoint::from(reference));
+        }
+
+        /// Two different crossings are never equal, whatever their paths.
+        #[test]
+        fn distinct_crossings_differ(
+            a in proptest::array::uniform3(coordinate_value()),
+            b in proptest::array::uniform3(coordinate_value()),
+            k1 in 1i64..999, k2 in 1i64..999,
+        ) {
+            prop_assume!(a[2] != b[2] && k1 != k2);
+            let make = |k: i64| {
+                let level = Level::new(level_for(a[2], b[2], 1, k, 1000));
+                let approx = LevelApprox::new(&level);
+                let shared = Arc::new(level);
+                LoopPoint::on_edge_with(a, b, &shared, approx.as_ref()).0
+            };
+            let (p1, p2) = (make(k1), make(k2));
+            prop_assert_eq!(p1 == p2, p1.exact() == p2.exact());
+        }
+
+        /// Edges with ordinary coordinates (f32 and decimal f64 of one part,
+        /// near-zero noise beside values of 40) at decimal levels: the
+        /// certified path decides almost every crossing.
+        #[test]
+        fn certified_path_decides_ordinary_edges(
+            a in proptest::array::uniform3(-60.0f64..60.0), d in proptest::array::uniform3(-1.0f64..1.0),
+            noise in -60i32..-40, single in any::<bool>(), t in 1i64..9999,
+        ) {
+            let round = |v: f64| if single { f64::from(v as f32) } else { (v * 1e6).round() / 1e6 };
+            let mut a = a.map(round);
+            let b = [a[0] + d[0], a[1] + d[1], a[2] + d[2] + 0.01].map(round);
+            a[1] = 2f64.powi(noise) * 1.2345;
+            prop_assume!(a[2] != b[2]);
+            let level = Level::new(level_for(a[2], b[2], 1, t, 10000));
+            let approx = LevelApprox::new(&level).unwrap();
+            // A tie (a crossing exactly halfway between two doubles) is
+            // the only reason left to refuse.
+            if certified_crossing(a, b, &approx).is_none() {
+                let exact = Point2::on_edge_reference(a, b, &level);
+                let tie = |v: &Rat, f: f64| {
+                    let e = rat_from_f64(f);
+                    let other = if rat_from_f64(f) < *v { f.next_up() } else { f.next_down() };
+                    (v - &e).abs() == (v - rat_from_f64(other)).abs()
+                };
+                let [x, y] = exact.to_f64();
+                prop_assert!(tie(&exact.x, x) || tie(&exact.y, y) || (v_near(&exact.x, x) || v_near(&exact.y, y)));
+            }
+        }
+    }
+
+    /// Whether `v` lies within `2^-60` of `f`'s rounding boundaries
+    /// relatively (where the double-double bound may not decide).
+    fn v_near(v: &Rat, f: f64) -> bool {
+        let e = rat_from_f64(f);
+        let half_up = (rat_from_f64(f.next_up()) - &e) / Rat::from_integer(2.into());
+        let half_down = (&e - rat_from_f64(f.next_down())) / Rat::from_integer(2.into());
+        let off = v - &e;
+        let tol = rat_from_f64(f.abs() * 2f64.powi(-60));
+        (&off - &half_up).abs() <= tol || (&off + &half_down).abs() <= tol
+    }
+
+    #[test]
+    fn level_approximation_brackets_the_level() {
+        let level = Level::new(crate::exact::parse_rational("0.1").unwrap());
+        let c = LevelApprox::new(&level).unwrap();
+        assert_eq!(c.hi, 0.1);
+        let rest = level.value() - rat_from_f64(c.hi) - rat_from_f64(c.lo);
+        assert!(rest.abs() <= rat_from_f64(c.err));
+        // Out of range: refused, so the exact path decides.
+        assert!(LevelApprox::new(&Level::new(rat_from_f64(1e300))).is_none());
+    }
+
+    #[test]
+    fn paths_are_counted() {
+        reset_path_counts();
+        let level = Level::new(crate::exact::parse_rational("0.3").unwrap());
+        {
+            let points = Crossings::new(None, &level);
+            // Spans 80 bits: not on the edge's i128 grid.
+            let a = [40.0, 1e-15, 0.0];
+            let b = [39.0, 0.5, 1.0];
+            let p = points.crossing(VertexId(0), VertexId(1), a, b);
+            assert_eq!(
+                p.exact().into_owned(),
+                Point2::on_edge_reference(a, b, &level)
+            );
+            let q = points.crossing(VertexId(0), VertexId(1), [0.0, 0.0, 0.0], [3.0, 6.0, 1.0]);
+            assert_eq!(q.to_f64(), [0.9, 1.8]);
+        }
+        let counts = path_counts();
+        assert!(counts[NumberPath::Certified as usize] >= 1);
+        assert!(counts[NumberPath::Edge as usize] >= 1);
+    }
+}

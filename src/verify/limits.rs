@@ -1,0 +1,212 @@
+//! Input: the mesh, the exact vertex signs at a level, a side. Output: the
+//! verifier's own L- or L+ (SPEC section 6), derived from the SPEC alone:
+//! a vertex on the plane counts as above (L-) or below (L+), every crossed
+//! face gives one piece of the face walk between two edge crossings, and
+//! the pieces are chained through edges (one in, one out per edge). Each
+//! loop is given by its crossed edges and by its limit: each crossing's
+//! element (the edge's end on the plane, or the edge), consecutive equal
+//! ones merged.
+//!
+//! Also the exact tests a result's limit loops must pass: the first
+//! non-zero term of the signed area in `epsilon`, and containment for
+//! small `epsilon > 0` (crossing parity on points that move with
+//! `epsilon`, [`crate::exact::perturbed`]).
+
+use super::doc::On;
+use super::facts::{face_piece, Side};
+use crate::exact::perturbed::{EpsPoint, Motion, Towards};
+use crate::exact::planar::Planar;
+use crate::exact::point::LoopPoint;
+use crate::exact::rational::{rat_from_f64, Rat};
+use crate::exact::{Point2, Sign};
+use crate::ids::VertexId;
+use crate::mesh::topology::Topology;
+use crate::mesh::Mesh;
+use num_traits::Zero;
+use std::cmp::Ordering;
+use std::collections::HashMap;
+
+/// One loop of a one-sided limit.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub(super) struct LimitLoop {
+    /// The edges crossed at `c -/+ epsilon`, in order.
+    pub crossings: Vec<u32>,
+    /// Their limits, consecutive equal ones merged (cyclically), starting
+    /// with the limit of `crossings[0]`.
+    pub on: Vec<On>,
+}
+
+/// The loops of L- (`Side::Below`) or L+ (`Side::Above`), or the edge
+/// where the pieces do not chain (which the SPEC rules out for a valid
+/// mesh).
+pub(super) fn limit_loops(
+    mesh: &Mesh,
+    topo: &Topology,
+    signs: &[Sign],
+    side: Side,
+) -> Result<Vec<LimitLoop>, u32> {
+    let nudge = match side {
+        Side::Below => Sign::Positive,
+        Side::Above => Sign::Negative,
+    };
+    let perturbed = |v: u32| match signs[v as usize] {
+        Sign::Zero => nudge,
+        s => s,
+    };
+    let mut next: HashMap<u32, u32> = HashMap::new();
+    for f in 0..mesh.num_faces() {
+        let tri = mesh.faces[f].map(|v| v.0);
+        let edges = topo.face_edges[f].map(|e| e.0);
+        if let Some((On::Edge(from), On::Edge(to))) = face_piece(tri.map(perturbed), tri, edges) {
+            let from = from as u32;
+            if next.insert(from, to as u32).is_some() {
+                return Err(from);
+            }
+        }
+    }
+    let limit = |e: u32| {
+        let [a, b] = topo.edges[e as usize].v;
+        if signs[a.idx()] == Sign::Zero {
+            On::Vertex(a.0.into())
+        } else if signs[b.idx()] == Sign::Zero {
+            On::Vertex(b.0.into())
+        } else {
+            On::Edge(e.into())
+        }
+    };
+    let mut starts: Vec<u32> = next.keys().copied().collect();
+    starts.sort_unstable();
+    let mut seen: HashMap<u32, ()> = HashMap::new();
+    let mut out = Vec::new();
+    for s in starts {
+        if seen.contains_key(&s) {
+            continue;
+        }
+        let mut crossings = Vec::new();
+        let mut e = s;
+        loop {
+            seen.insert(e, ());
+            crossings.push(e);
+            e = *next.get(&e).ok_or(e)?;
+            if e == s {
+                break;
+            }
+            if seen.contains_key(&e) {
+                return Err(e);
+            }
+        }
+        // Start where a run of equal limits starts.
+        let n = crossings.len();
+        let first = (0..n)
+            .find(|&k| limit(crossings[k]) != limit(crossings[(k + n - 1) % n]))
+            .unwrap_or(0);
+        crossings.rotate_left(first);
+        let mut on: Vec<On> = Vec::new();
+        for &e in &crossings {
+            let l = limit(e);
+            if on.last() != Some(&l) {
+                on.push(l);
+            }
+        }
+        out.push(LimitLoop { crossings, on });
+    }
+    Ok(out)
+}
+
+/// A cyclic sequence in a canonical rotation (the least of the rotations
+/// that start at its least element), so that loops written from any start
+/// compare equal.
+pub(super) fn canonical(on: &[On]) -> Vec<On> {
+    let Some(least) = on.iter().min() else {
+        return Vec::new();
+    };
+    let rotation = |r: usize| on[r..].iter().chain(&on[..r]).copied().collect::<Vec<On>>();
+    (0..on.len())
+        .filter(|&r| on[r] == *least)
+        .map(rotation)
+        .min()
+        .unwrap_or_default()
+}
+
+/// The crossings of a loop as points moving with `epsilon`, in stored
+/// units: limits first (owned), then the moving points built on them.
+pub(super) struct Moving {
+    limits: Vec<LoopPoint>,
+    motions: Vec<Motion>,
+}
+
+impl Moving {
+    /// The crossings of `edges` at `c -/+ epsilon`, with `c` in stored units.
+    pub fn new(mesh: &Mesh, topo: &Topology, c: &Rat, edges: &[u32], side: Side) -> Moving {
+        let towards = match side {
+            Side::Below => Towards::Below,
+            Side::Above => Towards::Above,
+        };
+        let mut limits = Vec::with_capacity(edges.len());
+        let mut motions = Vec::with_capacity(edges.len());
+        for &e in edges {
+            let [a, b] = topo.edges[e as usize].v.map(|v: VertexId| mesh.pos(v));
+            let (za, zb) = (rat_from_f64(a[2]), rat_from_f64(b[2]));
+            let t = (c - &za) / (&zb - &za);
+            let lerp =
+                |k: usize| rat_from_f64(a[k]) + (rat_from_f64(b[k]) - rat_from_f64(a[k])) * &t;
+            limits.push(LoopPoint::from(Point2 {
+                x: lerp(0),
+                y: lerp(1),
+            }));
+            motions.push(Motion { a, b, towards });
+        }
+        Moving { limits, motions }
+    }
+
+    /// The moving points.
+    pub fn points(&self) -> Vec<EpsPoint<'_>> {
+        self.limits
+            .iter()
+            .zip(&self.motions)
+            .map(|(l, &m)| EpsPoint::new(l, m))
+            .collect()
+    }
+}
+
+/// The sign of the signed area at small `epsilon > 0`: the first non-zero
+/// of `a0` (given) and `a1`, `a2`, computed from the moving points with
+/// plain rationals.
+pub(super) fn area_sign(a0: &Rat, pts: &[EpsPoint<'_>]) -> Sign {
+    if !a0.is_zero() {
+        return Sign::of_rat(a0);
+    }
+    let n = pts.len();
+    let cross = |u: &Point2, v: &Point2| &u.x * &v.y - &u.y * &v.x;
+    let (mut a1, mut a2) = (Rat::zero(), Rat::zero());
+    for i in 0..n {
+        let (p, q) = (&pts[i], &pts[(i + 1) % n]);
+        let (p0, q0) = (p.base().exact().exact(), q.base().exact().exact());
+        a1 += cross(&p0, q.velocity()) + cross(p.velocity(), &q0);
+        a2 += cross(p.velocity(), q.velocity());
+    }
+    if a1.is_zero() {
+        Sign::of_rat(&a2)
+    } else {
+        Sign::of_rat(&a1)
+    }
+}
+
+/// Whether `r` lies inside the polygon `poly` for small `epsilon > 0`
+/// (crossing parity of a ray to +x; `r` is on no segment of `poly`).
+pub(super) fn inside(poly: &[EpsPoint<'_>], r: &EpsPoint<'_>) -> bool {
+    let n = poly.len();
+    let mut odd = false;
+    for i in 0..n {
+        let (p, q) = (&poly[i], &poly[(i + 1) % n]);
+        let pa = p.cmp_y(r) == Ordering::Greater;
+        let qa = q.cmp_y(r) == Ordering::Greater;
+        if pa != qa {
+            let o = EpsPoint::orient(p, q, r);
+            if (qa && o == Sign::Positive) || (!qa && o == Sign::Negative) {
+                odd = !odd;
+            }
+        }
+    }
+    odd
+}

@@ -1,0 +1,384 @@
+//! The one-sided limits L- and L+ (SPEC section 6), checked three
+//! independent ways:
+//!
+//! - hand-derived loop counts (outer, hole, collapsed) of every dataset at
+//!   every degenerate height, with the reasoning beside each row;
+//! - a z-mirror: mirroring the mesh in z (faces turned to stay outward)
+//!   turns the material just above `c` into the material just below `-c`,
+//!   so the mirror's L- at `-c` is the original's L+ at `c`, loop for loop
+//!   (same elements in the same order, roles, parents, collapse, areas);
+//! - the neighbouring regular levels: L+ at `c` crosses exactly the edges,
+//!   in the same order, of the contour at every regular level just above
+//!   (L- likewise below), with the same roles and parents, and each
+//!   loop's exact area is the limit at `c` of that loop's area, which is a
+//!   quadratic in the level there (extrapolated exactly from three levels).
+
+mod common;
+
+use num_traits::{One, Zero};
+use proptest::prelude::*;
+use std::collections::HashMap;
+use wmslice::datasets;
+use wmslice::exact::{parse_rational, Rat};
+use wmslice::levelset::check::vertex_heights;
+use wmslice::levelset::Loop;
+use wmslice::mesh::topology::Topology;
+use wmslice::nest::Role;
+use wmslice::segment::CutPoint;
+use wmslice::{Mesh, Slicer};
+
+/// Loop counts of a limit: outer, hole, collapsed.
+type Counts = (usize, usize, usize);
+
+fn counts(loops: &[Loop]) -> Counts {
+    let outer = loops.iter().filter(|l| l.role == Role::Outer).count();
+    let collapsed = loops.iter().filter(|l| l.collapsed).count();
+    (outer, loops.len() - outer, collapsed)
+}
+
+/// `(dataset, z, L-, L+, why)`, derived from the constructions in
+/// DATASETS.md. A collapsed loop bounds, with its neighbours, a region of
+/// zero area at the level: around an extremum, or both sides of a ridge or
+/// valley.
+const LIMITS: &[(&str, &str, Counts, Counts, &str)] = &[
+    ("unit_cube", "0", (0, 0, 0), (1, 0, 0), "bottom face: nothing below, the square above"),
+    ("unit_cube", "1", (1, 0, 0), (0, 0, 0), "top face: the square below, nothing above"),
+    ("octahedron", "-1", (0, 0, 0), (1, 0, 1), "bottom vertex, a minimum: just above, a small square around it, collapsed onto it"),
+    ("octahedron", "0", (1, 0, 0), (1, 0, 0), "equator of transversal edges: the square on both sides"),
+    ("octahedron", "1", (1, 0, 1), (0, 0, 0), "top vertex, a maximum: just below, a square collapsing onto it"),
+    ("pyramid", "0", (0, 0, 0), (1, 0, 0), "base face: the base square just above"),
+    ("pyramid", "1", (1, 0, 1), (0, 0, 0), "apex: a small square just below, collapsed onto the apex"),
+    ("upright_torus", "-3", (0, 0, 0), (1, 0, 1), "bottom vertex, a minimum"),
+    ("upright_torus", "-2", (1, 0, 0), (1, 0, 0), "regular vertices (2 branches): one diamond each side"),
+    ("upright_torus", "-1", (1, 0, 0), (2, 0, 0), "lower saddle: one region below (1 < |z| < 3), two diamonds above (|z| < 1); they touch at the saddle in the limit"),
+    ("upright_torus", "0", (2, 0, 0), (2, 0, 0), "two tube sections of transversal edges: two diamonds on both sides"),
+    ("upright_torus", "1", (2, 0, 0), (1, 0, 0), "upper saddle: two diamonds below, one region above"),
+    ("upright_torus", "2", (1, 0, 0), (1, 0, 0), "regular vertices: one diamond each side"),
+    ("upright_torus", "3", (1, 0, 1), (0, 0, 0), "top vertex, a maximum"),
+    ("lying_torus", "-1", (0, 0, 0), (1, 1, 2), "bottom valley ring: just above, the annulus (outer + hole) on both sides of the ring, both collapsed onto it (the annulus has zero area in the limit; each loop alone has area +-56)"),
+    ("lying_torus", "0", (1, 1, 0), (1, 1, 0), "inner equator of transversal edges: the annulus on both sides"),
+    ("lying_torus", "1", (1, 1, 0), (1, 1, 0), "outer equator of transversal edges: the annulus on both sides"),
+    ("lying_torus", "2", (1, 1, 2), (0, 0, 0), "top ridge ring: just below, the annulus collapsing onto the ring"),
+    ("double_torus", "0", (0, 0, 0), (1, 2, 0), "bottom face: the domain with its two holes just above"),
+    ("double_torus", "1", (1, 2, 0), (1, 3, 1), "pit (0,-1) at z = 1 opens a new hole just above, collapsed onto it; the rim points (1,1), (-1,0) only reshape holes E and W"),
+    ("double_torus", "2", (1, 3, 0), (1, 1, 0), "monkey saddle: below, the three notches are separate holes (as at 3/2); above, they have met around v and joined holes W and E into one hole (as at 5/2)"),
+    ("double_torus", "4", (1, 1, 0), (0, 0, 0), "top: just below, the structure of the open interval (2, 4): one outer and one hole bounding the two flat parts joined by thin bands along the rim ridges; nothing above"),
+    ("grid", "0", (0, 0, 0), (1, 0, 0), "bottom face: the square just above"),
+    ("grid", "1", (1, 0, 0), (1, 9, 9), "nine pits (minima): just above, the square with nine small holes, each collapsed onto its pit"),
+    ("grid", "2", (1, 9, 10), (0, 0, 0), "ridge network: just below, the square with nine holes (as at 3/2), the material between them a thin band along the ridges: every loop collapsed (9 - 9 * 1 = 0)"),
+    ("cylinder", "0", (0, 0, 0), (1, 0, 0), "bottom face"),
+    ("cylinder", "2", (1, 0, 0), (0, 0, 0), "top face: the rim below"),
+    ("internal_torus", "-2", (0, 0, 0), (1, 0, 0), "box bottom"),
+    ("internal_torus", "-1", (1, 0, 0), (2, 1, 2), "cavity valley ring inside the material: just above, the box and the cavity's two walls (hole, pillar), the cavity walls collapsed onto the ring"),
+    ("internal_torus", "0", (2, 1, 0), (2, 1, 0), "inner equator of transversal edges"),
+    ("internal_torus", "1", (2, 1, 0), (2, 1, 0), "outer equator of transversal edges"),
+    ("internal_torus", "2", (2, 1, 2), (1, 0, 0), "cavity ridge ring: just below, the cavity walls collapsing onto the ring; above, the box alone"),
+    ("internal_torus", "3", (1, 0, 0), (0, 0, 0), "box top"),
+    ("peg_cube", "0", (0, 0, 0), (1, 0, 0), "cube bottom"),
+    ("peg_cube", "1", (1, 0, 0), (1, 0, 0), "right peg bottom: cube below, cube + peg above, one loop each"),
+    ("peg_cube", "3", (1, 0, 0), (1, 0, 0), "cube + right peg below, cube + left peg above"),
+    ("peg_cube", "7/2", (1, 0, 0), (1, 0, 0), "cube + left peg below, cube above"),
+    ("peg_cube", "4", (1, 0, 0), (0, 0, 0), "cube top"),
+    ("chamfered_cylinder", "0", (0, 0, 0), (1, 0, 0), "bottom face"),
+    ("chamfered_cylinder", "2", (1, 0, 0), (1, 0, 0), "ring of transversal edges"),
+    ("chamfered_cylinder", "3", (1, 0, 0), (0, 0, 0), "top face"),
+    ("platform_grid", "0", (0, 0, 0), (1, 0, 0), "bottom face"),
+    ("platform_grid", "1", (1, 0, 0), (4, 0, 0), "platform top: the platform below, the four plateaus above"),
+    ("platform_grid", "2", (4, 0, 0), (0, 0, 0), "plateau tops"),
+    ("saddle8", "0", (0, 0, 0), (1, 0, 0), "bottom face"),
+    ("saddle8", "1", (1, 0, 0), (1, 0, 0), "regular corners: the square with notches, one loop"),
+    ("saddle8", "2", (1, 0, 0), (4, 0, 0), "8-branch saddle: one region below, four triangles above, touching at v in the limit"),
+    ("saddle8", "3", (4, 0, 4), (0, 0, 0), "four maxima on the rim: four triangles below, each collapsing onto its vertex"),
+];
+
+#[test]
+fn limits_have_the_hand_derived_loops_at_every_degenerate_height() {
+    for d in datasets::all() {
+        let mesh = d.build();
+        let slicer = Slicer::new(&mesh).unwrap();
+        for &(p, q) in d.degenerate_levels {
+            let z = format!("{p}/{q}");
+            let c = parse_rational(&z).unwrap();
+            let row = LIMITS
+                .iter()
+                .find(|r| r.0 == d.name && parse_rational(r.1).unwrap() == c)
+                .unwrap_or_else(|| panic!("no hand-derived row for {} at {z}", d.name));
+            let ls = slicer.slice_at(&c).unwrap();
+            assert_eq!(
+                counts(&ls.below),
+                row.2,
+                "{} at {z}: L- ({})",
+                d.name,
+                row.4
+            );
+            assert_eq!(
+                counts(&ls.above),
+                row.3,
+                "{} at {z}: L+ ({})",
+                d.name,
+                row.4
+            );
+        }
+    }
+}
+
+/// The apex, the top ring and a ridge network in detail: points, areas.
+#[test]
+fn collapsed_loops_in_detail() {
+    let at = |name: &str, z: &str| {
+        let mesh = datasets::by_name(name).unwrap().build();
+        let ls = Slicer::new(&mesh)
+            .unwrap()
+            .slice_at(&parse_rational(z).unwrap())
+            .unwrap();
+        (mesh, ls)
+    };
+    // Pyramid apex (0,0,1), vertex 5: L- is one point, outer (the square
+    // just below is counter-clockwise), area 0.
+    let (mesh, ls) = at("pyramid", "1");
+    let apex = mesh
+        .positions
+        .iter()
+        .position(|p| *p == [0.0, 0.0, 1.0])
+        .unwrap();
+    let l = &ls.below[0];
+    assert_eq!(
+        l.cuts,
+        vec![CutPoint::AtVertex(wmslice::ids::VertexId(apex as u32))]
+    );
+    assert!(l.collapsed && l.role == Role::Outer && l.area().is_zero());
+    assert_eq!(l.crossings.len(), 4, "the four edges down from the apex");
+    // Lying torus top ring (8 vertices at z = 2, gauge s = 2: area 14 * 4
+    // = 56): an outer loop and a hole along the ring, each of area +-56,
+    // together zero.
+    let (_, ls) = at("lying_torus", "2");
+    let mut areas: Vec<Rat> = ls.below.iter().map(Loop::area).collect();
+    areas.sort();
+    assert_eq!(
+        areas,
+        vec![
+            Rat::from_integer((-56).into()),
+            Rat::from_integer(56.into())
+        ]
+    );
+    let hole = ls.below.iter().position(|l| l.role == Role::Hole).unwrap();
+    let outer = 1 - hole;
+    assert_eq!(ls.below[hole].parent, Some(outer));
+    assert_eq!(ls.below[outer].cuts.len(), 8, "the ring's 8 vertices");
+    assert!(ls.below.iter().all(|l| l.collapsed));
+    // Grid ridge network at z = 2: the outer square (area 9) and nine
+    // unit holes, all collapsed.
+    let (_, ls) = at("grid", "2");
+    let total: Rat = ls.below.iter().map(Loop::area).sum();
+    assert!(total.is_zero());
+    let outer: Vec<&Loop> = ls.below.iter().filter(|l| l.role == Role::Outer).collect();
+    assert_eq!(outer.len(), 1);
+    assert_eq!(outer[0].area(), Rat::from_integer(9.into()));
+    assert!(ls
+        .below
+        .iter()
+        .filter(|l| l.role == Role::Hole)
+        .all(|l| l.area() == -Rat::one() && l.parent.is_some()));
+}
+
+/// The mesh mirrored in z, faces turned so that they stay outward.
+fn mirrored(mesh: &Mesh) -> Mesh {
+    let mut m = mesh.clone();
+    for p in &mut m.positions {
+        p[2] = -p[2];
+    }
+    for f in &mut m.faces {
+        f.swap(1, 2);
+    }
+    m
+}
+
+/// A cut by the mesh's elements that do not depend on edge numbering.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+enum Element {
+    Vertex(u32),
+    Edge(u32, u32),
+}
+
+fn element(topo: &Topology, c: &CutPoint) -> Element {
+    match c {
+        CutPoint::AtVertex(v) => Element::Vertex(v.0),
+        CutPoint::OnEdge(e) => {
+            let [a, b] = topo.edge(*e).v;
+            Element::Edge(a.0.min(b.0), a.0.max(b.0))
+        }
+    }
+}
+
+/// A loop as the least rotation of its element sequence.
+fn canonical(seq: Vec<Element>) -> Vec<Element> {
+    (0..seq.len())
+        .map(|r| {
+            seq[r..]
+                .iter()
+                .chain(&seq[..r])
+                .copied()
+                .collect::<Vec<_>>()
+        })
+        .min()
+        .unwrap_or_default()
+}
+
+/// A family as comparable facts: for each loop (by canonical sequence)
+/// its role, its parent's sequence, collapse and exact area.
+type Shape = Vec<(Vec<Element>, Role, Option<Vec<Element>>, bool, Rat)>;
+
+fn shape(loops: &[Loop], seq: impl Fn(&Loop) -> Vec<Element>) -> Shape {
+    let keys: Vec<Vec<Element>> = loops.iter().map(|l| canonical(seq(l))).collect();
+    let mut out: Shape = loops
+        .iter()
+        .zip(&keys)
+        .map(|(l, k)| {
+            (
+                k.clone(),
+                l.role,
+                l.parent.map(|p| keys[p].clone()),
+                l.collapsed,
+                l.area(),
+            )
+        })
+        .collect();
+    out.sort_by(|a, b| a.0.cmp(&b.0));
+    out
+}
+
+fn limit_shape(topo: &Topology, loops: &[Loop]) -> Shape {
+    shape(loops, |l| l.cuts.iter().map(|c| element(topo, c)).collect())
+}
+
+fn check_mirror(mesh: &Mesh) -> Result<(), TestCaseError> {
+    let m = mirrored(mesh);
+    let (a, b) = (Slicer::new(mesh).unwrap(), Slicer::new(&m).unwrap());
+    for c in vertex_heights(mesh) {
+        let up = a.slice_at(&c).unwrap();
+        let down = b.slice_at(&-c.clone()).unwrap();
+        let (ta, tb) = (a.topology(), b.topology());
+        prop_assert_eq!(
+            limit_shape(ta, &up.above),
+            limit_shape(tb, &down.below),
+            "L+ at {}",
+            c
+        );
+        prop_assert_eq!(
+            limit_shape(ta, &up.below),
+            limit_shape(tb, &down.above),
+            "L- at {}",
+            c
+        );
+    }
+    Ok(())
+}
+
+#[test]
+fn mirror_of_every_dataset_swaps_the_limits() {
+    for d in datasets::all() {
+        check_mirror(&d.build()).unwrap_or_else(|e| panic!("{}: {e}", d.name));
+    }
+}
+
+/// L+ at `c` against the contours at `c + k d` (k = 1, 2, 3), all regular
+/// and below the next vertex height; `s = -1` for L- (levels below).
+fn check_neighbours(
+    slicer: &Slicer<'_>,
+    c: &Rat,
+    d: &Rat,
+    below: bool,
+) -> Result<(), TestCaseError> {
+    let topo = slicer.topology();
+    let ls = slicer.slice_at(c).unwrap();
+    let limit = if below { &ls.below } else { &ls.above };
+    let near: Vec<_> = (1..=3)
+        .map(|k| {
+            let z = c + d * Rat::from_integer(k.into());
+            slicer.slice_at(&z).unwrap()
+        })
+        .collect();
+    let crossed = |l: &Loop| -> Vec<Element> {
+        if l.crossings.is_empty() {
+            l.cuts.iter().map(|c| element(topo, c)).collect()
+        } else {
+            l.crossings
+                .iter()
+                .map(|&e| element(topo, &CutPoint::OnEdge(e)))
+                .collect()
+        }
+    };
+    let ours = shape(limit, crossed);
+    let theirs: Vec<Shape> = near
+        .iter()
+        .map(|n| {
+            shape(&n.contours, |l| {
+                l.cuts.iter().map(|c| element(topo, c)).collect()
+            })
+        })
+        .collect();
+    prop_assert_eq!(ours.len(), theirs[0].len(), "loop count at {}", c);
+    let three = Rat::from_integer(3.into());
+    for (i, o) in ours.iter().enumerate() {
+        // Same edges in the same order, same role and parent.
+        prop_assert_eq!(&o.0, &theirs[0][i].0, "crossings at {}", c);
+        prop_assert_eq!(o.1, theirs[0][i].1, "role at {}", c);
+        prop_assert_eq!(&o.2, &theirs[0][i].2, "parent at {}", c);
+        // The area at c + k d is a quadratic in k: its value at k = 0 is
+        // 3 A(1) - 3 A(2) + A(3).
+        let a = |k: usize| theirs[k][i].4.clone();
+        let limit_area = &three * a(0) - &three * a(1) + a(2);
+        prop_assert_eq!(&o.4, &limit_area, "area at {}", c);
+    }
+    Ok(())
+}
+
+fn check_all_neighbours(mesh: &Mesh) -> Result<(), TestCaseError> {
+    let slicer = Slicer::new(mesh).unwrap();
+    let zs = vertex_heights(mesh);
+    let four = Rat::from_integer(4.into());
+    for (i, c) in zs.iter().enumerate() {
+        if let Some(next) = zs.get(i + 1) {
+            check_neighbours(&slicer, c, &((next - c) / &four), false)?;
+        }
+        if i > 0 {
+            check_neighbours(&slicer, c, &((&zs[i - 1] - c) / &four), true)?;
+        }
+    }
+    Ok(())
+}
+
+#[test]
+fn every_dataset_limit_is_its_neighbouring_regular_contour() {
+    for d in datasets::all() {
+        check_all_neighbours(&d.build()).unwrap_or_else(|e| panic!("{}: {e}", d.name));
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    #[test]
+    fn mirror_of_random_slabs_swaps_the_limits(s in common::slab()) {
+        check_mirror(&s.mesh())?;
+    }
+
+    #[test]
+    fn random_slab_limits_are_their_neighbouring_regular_contours(s in common::slab()) {
+        check_all_neighbours(&s.mesh())?;
+    }
+}
+
+/// Every limit loop's elements in the table above are distinct from the
+/// mirror's only by the side: a sanity check that the two tests compare
+/// what they claim (a loop's sequence is not empty, keys are unique).
+#[test]
+fn shapes_are_keyed_by_distinct_sequences() {
+    let mesh = datasets::by_name("upright_torus").unwrap().build();
+    let slicer = Slicer::new(&mesh).unwrap();
+    let ls = slicer.slice_at(&parse_rational("-1").unwrap()).unwrap();
+    let s = limit_shape(slicer.topology(), &ls.above);
+    let keys: HashMap<_, _> = s.iter().map(|x| (x.0.clone(), ())).collect();
+    assert_eq!(keys.len(), 2);
+    assert!(s.iter().all(|x| !x.0.is_empty()));
+}
