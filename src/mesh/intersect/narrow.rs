@@ -28,7 +28,7 @@
 //! points lie in one plane that projects one to one there, so it keeps
 //! every orientation (up to one common sign).
 
-use crate::exact::orient_filter::Filter;
+use crate::exact::orient_filter::{orient2d_axes_filter, Filter};
 use crate::exact::predicates::{is_degenerate_triangle, orient2d_axes, orient3d, Sign};
 
 /// A position, exact as stored.
@@ -41,10 +41,14 @@ struct Axes(usize, usize);
 const AXES: [Axes; 3] = [Axes(0, 1), Axes(1, 2), Axes(2, 0)];
 
 impl Axes {
-    /// The exact orientation of `(a, b, c)` projected on these axes.
+    /// The exact orientation of `(a, b, c)` projected on these axes: the
+    /// floating-point filter's sign when its proven bound shows it
+    /// ([`orient2d_axes_filter`], range-checked per call), else the exact
+    /// predicate.
     #[inline]
     fn o2(self, a: P, b: P, c: P) -> Sign {
-        orient2d_axes(a, b, c, self.0, self.1)
+        orient2d_axes_filter(a, b, c, self.0, self.1)
+            .unwrap_or_else(|| orient2d_axes(a, b, c, self.0, self.1))
     }
 }
 
