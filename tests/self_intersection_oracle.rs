@@ -103,7 +103,8 @@ fn compare(m: &Mesh) -> Result<Option<bool>, String> {
             Defect::SelfIntersection { .. } | Defect::Fold { .. } | Defect::DegenerateFace { .. }
         )
     });
-    if cgal.does_intersect != refused || cgal.does_intersect != !cgal.pairs.is_empty() {
+    let some_pair = !cgal.pairs.is_empty();
+    if cgal.does_intersect != refused || cgal.does_intersect != some_pair {
         return Err(format!(
             "verdict: CGAL {}, ours {refused} ({report})\n{}",
             cgal.does_intersect,

@@ -15,6 +15,12 @@
 //!   tested exactly (`narrow.rs`); touching counts, so two bodies that
 //!   touch at a point without sharing a vertex id self-intersect.
 //!
+//! Every decision is exact, with no tolerance: signs come from the exact
+//! predicates, or from floating-point filters only where their proven
+//! error bound shows the sign ([`crate::exact::orient_filter`]); the
+//! broad phase's `f32` bounds are rounded outward, so they can only let
+//! more pairs through to the exact tests, never fewer.
+//!
 //! Every pair is found once, by exactly one of these. Work is spread over
 //! rayon's pool for large meshes (see `crate::par`); the answer does not
 //! depend on it: pairs are listed in ascending order, the first `keep`
