@@ -80,18 +80,24 @@ fn a_pasted_case_runs() {
     );
 }
 
-/// `fuzz/fuzz_targets/adversarial.rs` on its own seed (bytes
-/// `JhQEAAQAAAQABAQABAAAAAAAAAAAAAAAAAAPA+T9`, base64): a 2 x 1 slab with
-/// heights 0..3 scaled by `2^-540`. Every loop's exact area is a small
-/// multiple of `2^-1080`, nearer to 0 than to any other double, so its
-/// rounded area is 0 (README); the invariant check once called that the
-/// wrong sign. The target's check: accepted, then every SPEC 7 invariant
-/// at every vertex height and midpoint.
+/// `fuzz/fuzz_targets/adversarial.rs` on two of its own seeds (bytes
+/// `JhQEAAQAAAQABAQABAAAAAAAAAAAAAAAAAAPA+T9` and `...PAxwC`, base64): a
+/// 2 x 1 slab with heights 0..3 scaled by `2^-540` and by `2^540`. Every
+/// loop's exact area is a small multiple of `2^-1080` (nearer to 0 than
+/// to any other double, so its rounded area is 0, README), or of `2^1080`
+/// (beyond `f64::MAX`: rounded to infinity); the invariant check once
+/// called both the wrong sign. The target's check: accepted, then every
+/// SPEC 7 invariant at every vertex height and midpoint.
 #[test]
-fn adversarial_loops_whose_area_rounds_to_zero() {
+fn adversarial_loops_whose_area_rounds_to_zero_or_infinity() {
+    for e in [-540, 540] {
+        slab_2x1_scaled(2f64.powi(e));
+    }
+}
+
+fn slab_2x1_scaled(s: f64) {
     use wmslice::datasets::slab::heights_and_midpoints;
     use wmslice::levelset::check::check_level_invariants;
-    let s = 2f64.powi(-540);
     // Vertex i: x = (i mod 12) / 4, y = i / 12 - 2, z = i mod 4, times s.
     let positions: Vec<[f64; 3]> = (0..24)
         .map(|i: i32| {
@@ -157,7 +163,7 @@ fn adversarial_loops_whose_area_rounds_to_zero() {
     for c in levels.iter().take(40) {
         let ls = slicer.slice_at(c).expect("sliced");
         if let Err(e) = check_level_invariants(&mesh, slicer.topology(), &ls) {
-            panic!("at {c}: {e}");
+            panic!("scale {s:e}, at {c}: {e}");
         }
     }
 }

@@ -109,12 +109,14 @@ pub fn check_level_invariants(mesh: &Mesh, topo: &Topology, ls: &LevelSet) -> Re
             let area = &areas[i];
             let rounded: Vec<[f64; 2]> = l.points.iter().map(|p| p.to_f64()).collect();
             let approx = l.rounded_area(&rounded);
-            // A loop whose exact area is nearer to 0 than to any other
-            // double (|area| < 2^-1075, a body scaled far down) has the
-            // rounded area 0, its nearest double (README): only then may
-            // the signs differ.
+            // The rounded area's own sign (it may be infinite beyond
+            // f64::MAX). A loop whose exact area is nearer to 0 than to any
+            // other double (|area| < 2^-1075, a body scaled far down) has
+            // the rounded area 0, its nearest double (README): only then
+            // may the signs differ.
+            let rounded_sign = Sign::of_cmp(approx.partial_cmp(&0.0));
             let underflows = approx == 0.0 && rat_to_f64(area) == 0.0;
-            if Sign::of_rat(&rat_from_f64(approx)) != Sign::of_rat(area) && !underflows {
+            if rounded_sign != Sign::of_rat(area) && !underflows {
                 return Err(format!(
                     "{name} loop {i}: rounded area {approx} has the wrong sign"
                 ));
