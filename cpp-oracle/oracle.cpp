@@ -44,6 +44,7 @@
 #include <CGAL/Gmpq.h>
 #include <boost/multiprecision/gmp.hpp>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Polygon_mesh_slicer.h>
 #include <CGAL/Surface_mesh.h>
 
@@ -158,23 +159,17 @@ int8_t sign_of(const FT& z, const FT& c) {
   }
 }
 
-Storage* classify(const double* xyz, size_t nv, const uint32_t* faces, size_t nf,
-                  const char* level_num, const char* level_den) {
+// Builds CGAL's halfedge mesh of the input, vertex i and face f being
+// input vertex i and face f (checked), every coordinate exact (FT(double)
+// is exact: every finite double is a dyadic rational). Throws OracleError
+// for an input that is not a closed, oriented 2-manifold.
+void build_mesh(const double* xyz, size_t nv, const uint32_t* faces, size_t nf,
+                std::vector<Point_3>& points, Mesh& mesh) {
   if (nv > 0 && xyz == nullptr) throw OracleError(WMO_ERR_INPUT, "null vertex array");
   if (nf > 0 && faces == nullptr) throw OracleError(WMO_ERR_INPUT, "null face array");
   if (nv > 0xffffffffu) throw OracleError(WMO_ERR_INPUT, "too many vertices for uint32 ids");
-
-  // The level, exactly.
-  if (!is_decimal_integer(level_num) || !is_decimal_integer(level_den))
-    throw OracleError(WMO_ERR_LEVEL, "level numerator/denominator must be decimal integers");
-  CGAL::Gmpz num = parse_integer(level_num);
-  CGAL::Gmpz den = parse_integer(level_den);
-  if (den == 0) throw OracleError(WMO_ERR_LEVEL, "level denominator is zero");
-  const FT c = ft_from_gmpq(CGAL::Gmpq(num, den));  // canonicalised
-
   // Vertices: every finite double is an exact dyadic rational; FT(double)
   // is exact.
-  std::vector<Point_3> points;
   points.reserve(nv);
   for (size_t i = 0; i < nv; ++i) {
     const double x = xyz[3 * i], y = xyz[3 * i + 1], z = xyz[3 * i + 2];
@@ -195,7 +190,6 @@ Storage* classify(const double* xyz, size_t nv, const uint32_t* faces, size_t nf
   if (!CGAL::Polygon_mesh_processing::is_polygon_soup_a_polygon_mesh(polygons))
     throw OracleError(WMO_ERR_MESH, "the faces do not form an oriented 2-manifold");
 
-  Mesh mesh;
   CGAL::Polygon_mesh_processing::polygon_soup_to_polygon_mesh(points, polygons, mesh);
   if (mesh.number_of_vertices() != nv || mesh.number_of_faces() != nf)
     throw OracleError(WMO_ERR_MESH, "the mesh could not be built from the faces");
@@ -219,6 +213,26 @@ Storage* classify(const double* xyz, size_t nv, const uint32_t* faces, size_t nf
   for (HI h : mesh.halfedges()) {
     if (mesh.is_border(h)) throw OracleError(WMO_ERR_MESH, "the mesh is not closed");
   }
+
+}
+
+Storage* classify(const double* xyz, size_t nv, const uint32_t* faces, size_t nf,
+                  const char* level_num, const char* level_den) {
+  if (nv > 0 && xyz == nullptr) throw OracleError(WMO_ERR_INPUT, "null vertex array");
+  if (nf > 0 && faces == nullptr) throw OracleError(WMO_ERR_INPUT, "null face array");
+  if (nv > 0xffffffffu) throw OracleError(WMO_ERR_INPUT, "too many vertices for uint32 ids");
+
+  // The level, exactly.
+  if (!is_decimal_integer(level_num) || !is_decimal_integer(level_den))
+    throw OracleError(WMO_ERR_LEVEL, "level numerator/denominator must be decimal integers");
+  CGAL::Gmpz num = parse_integer(level_num);
+  CGAL::Gmpz den = parse_integer(level_den);
+  if (den == 0) throw OracleError(WMO_ERR_LEVEL, "level denominator is zero");
+  const FT c = ft_from_gmpq(CGAL::Gmpq(num, den));  // canonicalised
+
+  std::vector<Point_3> points;
+  Mesh mesh;
+  build_mesh(xyz, nv, faces, nf, points, mesh);
 
   auto st = std::make_unique<Storage>();
 
@@ -342,6 +356,31 @@ Storage* classify(const double* xyz, size_t nv, const uint32_t* faces, size_t nf
   return st.release();
 }
 
+// Every pair of faces CGAL::Polygon_mesh_processing::self_intersections
+// reports (each pair smaller id first, pairs ascending, no repeats), and
+// the verdict of does_self_intersect, on the exact mesh.
+std::vector<std::pair<uint32_t, uint32_t>> self_intersecting_pairs(
+    const double* xyz, size_t nv, const uint32_t* faces, size_t nf, bool& does) {
+  std::vector<Point_3> points;
+  Mesh mesh;
+  build_mesh(xyz, nv, faces, nf, points, mesh);
+  namespace PMP = CGAL::Polygon_mesh_processing;
+  does = PMP::does_self_intersect(mesh);
+  std::vector<std::pair<FI, FI>> found;
+  PMP::self_intersections(mesh, std::back_inserter(found));
+  std::vector<std::pair<uint32_t, uint32_t>> out;
+  out.reserve(found.size());
+  for (const auto& fp : found) {
+    uint32_t a = static_cast<uint32_t>(static_cast<size_t>(fp.first));
+    uint32_t b = static_cast<uint32_t>(static_cast<size_t>(fp.second));
+    if (b < a) std::swap(a, b);
+    out.emplace_back(a, b);
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
 void write_error(char* err, size_t err_len, const char* msg) {
   if (err == nullptr || err_len == 0) return;
   std::strncpy(err, msg, err_len - 1);
@@ -403,4 +442,40 @@ extern "C" void wmo_free(wmo_result* result) {
   if (result == nullptr) return;
   delete static_cast<Storage*>(result->internal);
   delete result;
+}
+
+extern "C" int wmo_self_intersections(const double* xyz, size_t num_vertices,
+                                      const uint32_t* faces, size_t num_faces,
+                                      int* does_intersect, uint32_t* pairs, size_t max_pairs,
+                                      size_t* num_pairs, char* err, size_t err_len) {
+  if (does_intersect == nullptr || num_pairs == nullptr || (max_pairs > 0 && pairs == nullptr)) {
+    write_error(err, err_len, "output pointer is null");
+    return WMO_ERR_INPUT;
+  }
+  *does_intersect = 0;
+  *num_pairs = 0;
+  try {
+    bool does = false;
+    const auto found = self_intersecting_pairs(xyz, num_vertices, faces, num_faces, does);
+    for (size_t i = 0; i < found.size() && i < max_pairs; ++i) {
+      pairs[2 * i] = found[i].first;
+      pairs[2 * i + 1] = found[i].second;
+    }
+    *num_pairs = found.size();
+    *does_intersect = does ? 1 : 0;
+    write_error(err, err_len, "");
+    return WMO_OK;
+  } catch (const OracleError& e) {
+    write_error(err, err_len, e.what());
+    return e.code;
+  } catch (const CGAL::Failure_exception& e) {
+    write_error(err, err_len, e.what());
+    return WMO_ERR_CGAL;
+  } catch (const std::exception& e) {
+    write_error(err, err_len, e.what());
+    return WMO_ERR_INTERNAL;
+  } catch (...) {
+    write_error(err, err_len, "unknown C++ exception");
+    return WMO_ERR_INTERNAL;
+  }
 }

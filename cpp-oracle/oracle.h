@@ -14,6 +14,9 @@
 //!   int  wmo_classify(xyz, num_vertices, faces, num_faces,
 //!                     level_num, level_den, &result, err, err_len);
 //!   void wmo_free(result);
+//!   int  wmo_self_intersections(xyz, num_vertices, faces, num_faces,
+//!                               &does_intersect, pairs, max_pairs,
+//!                               &num_pairs, err, err_len);
 //!
 //! On success wmo_classify returns WMO_OK and stores a result owned by the
 //! shim in *result; the caller releases it with wmo_free (exactly once). On
@@ -106,6 +109,24 @@ int wmo_classify(const double *xyz, size_t num_vertices,
 
 /* Releases a result of wmo_classify; NULL is ignored. */
 void wmo_free(wmo_result *result);
+
+/* Self-intersection of a closed, oriented 2-manifold triangle mesh (same
+ * input as wmo_classify), decided exactly (Epeck) by
+ * CGAL::Polygon_mesh_processing::does_self_intersect (*does_intersect: 0
+ * or 1) and self_intersections: the face pairs it reports, each smaller id
+ * first, ascending, without repeats; the first min(count, max_pairs) are
+ * written to pairs[2 * i], pairs[2 * i + 1] and the count to *num_pairs.
+ * CGAL 5.5's notion (Polygon_mesh_processing/self_intersections.h): two
+ * faces on an edge intersect when coplanar with their opposite vertices on
+ * one side (a fold); two faces on one vertex when the edge of one opposite
+ * that vertex meets the other (closed sets); others when the closed
+ * triangles meet; a degenerate face is reported as the pair (f, f) and
+ * nowhere else. Returns WMO_OK or a WMO_ERR_* code with a message in err,
+ * as wmo_classify. */
+int wmo_self_intersections(const double *xyz, size_t num_vertices,
+                           const uint32_t *faces, size_t num_faces,
+                           int *does_intersect, uint32_t *pairs, size_t max_pairs,
+                           size_t *num_pairs, char *err, size_t err_len);
 
 #ifdef __cplusplus
 }

@@ -94,6 +94,10 @@ enum Run {
     Check,
     /// `verify unit_cube FILE`.
     Verify,
+    /// `slice FILE --layer-height H --format json -o OUT` (the layer sweep).
+    Layers(&'static str),
+    /// `check --snap Q FILE`.
+    CheckSnapped(&'static str),
 }
 
 struct Row {
@@ -214,6 +218,69 @@ fn rows() -> Vec<Row> {
             0,
             "",
         ),
+        // The tetrahedron and a copy shifted by 1/4 on every axis, with
+        // their own vertex ids: the first's faces in x = 0, y = 0, z = 0
+        // miss the copy (x, y, z >= 1/4 on it); its slanted face f3 meets
+        // the copy's bottom f4 (z = 1/4: at (3/8, 3/8, 1/4), where
+        // x + y + z = 1 and x, y >= 1/4).
+        row(
+            "overlapping bodies (self-intersection), sliced",
+            "overlap.off",
+            two_tetras([0.25, 0.25, 0.25], [4, 5, 6, 7]),
+            s,
+            3,
+            "error: faces f3 and f4 intersect",
+        ),
+        row(
+            "overlapping bodies (self-intersection), checked",
+            "overlap_check.off",
+            two_tetras([0.25, 0.25, 0.25], [4, 5, 6, 7]),
+            Run::Check,
+            3,
+            "error: faces f3 and f4 intersect",
+        ),
+        row(
+            "overlapping bodies (self-intersection), sliced in layers",
+            "overlap_layers.off",
+            two_tetras([0.25, 0.25, 0.25], [4, 5, 6, 7]),
+            Run::Layers("1/8"),
+            3,
+            "error: faces f3 and f4 intersect",
+        ),
+        // The copy's corner v4 at (1/4, 1/4, 1/2 + 2^-20): just beyond the
+        // first one's slanted face f3 (x + y + z = 1 there; the copy has
+        // x + y + z >= 1 + 2^-20 everywhere), so apart and accepted. Snapped
+        // to 2^-10 it lands on f3's interior (1/4 + 1/4 + 1/2 = 1, each
+        // coordinate positive), moving nothing else (multiples of 1/4):
+        // the copy's faces through v4, f4, f5 and f6, touch f3 there. The
+        // check runs on the mesh as sliced.
+        row(
+            "bodies apart by 2^-20 (accepted)",
+            "gap.off",
+            two_tetras([0.25, 0.25, 0.5 + 1.0 / 1048576.0], [4, 5, 6, 7]),
+            Run::Check,
+            0,
+            "accepted for slicing",
+        ),
+        row(
+            "bodies apart by 2^-20, touching once snapped to 2^-10",
+            "gap_snapped.off",
+            two_tetras([0.25, 0.25, 0.5 + 1.0 / 1048576.0], [4, 5, 6, 7]),
+            Run::CheckSnapped("0.0009765625"),
+            3,
+            "error: faces f3 and f4 intersect",
+        ),
+        // The copy shifted by (1, 0, 0): its corner v4 = (1, 0, 0) sits on
+        // the first one's corner v1 with another id; bodies touching at a
+        // point self-intersect (faces f0 and f4 share that point).
+        row(
+            "bodies touching at one point with separate ids",
+            "touch.off",
+            two_tetras([1.0, 0.0, 0.0], [4, 5, 6, 7]),
+            s,
+            3,
+            "error: faces f0 and f4 intersect",
+        ),
         row(
             "degenerate face with coincident vertices (refused)",
             "coincident.off",
@@ -303,9 +370,21 @@ fn every_defect_class_has_its_exit_code_and_message_and_leaves_no_file() {
                 "--quiet",
             ]),
             Run::Check => wmslice(&["check", s(&input)]),
+            Run::CheckSnapped(q) => wmslice(&["check", "--snap", q, s(&input)]),
+            Run::Layers(h) => wmslice(&[
+                "slice",
+                s(&input),
+                "--layer-height",
+                h,
+                "--format",
+                "json",
+                "-o",
+                s(&out),
+                "--quiet",
+            ]),
             Run::Verify => wmslice(&["verify", "unit_cube", s(&input)]),
         };
-        let said = if matches!(r.run, Run::Check) {
+        let said = if matches!(r.run, Run::Check | Run::CheckSnapped(_)) {
             &stdout
         } else {
             &stderr
@@ -315,7 +394,8 @@ fn every_defect_class_has_its_exit_code_and_message_and_leaves_no_file() {
             && code != 101
             && said.contains(r.names)
             && (code == 0 || !left)
-            && (code != 0 || !matches!(r.run, Run::Slice(_)) || (out.exists() && cert.exists()));
+            && (code != 0 || !matches!(r.run, Run::Slice(_)) || (out.exists() && cert.exists()))
+            && (code != 0 || !matches!(r.run, Run::Layers(_)) || out.exists());
         if !ok {
             failures.push(format!(
                 "{}: exit {code} (want {}), output left: {left}, wanted {:?} in:\n{said}",

@@ -79,3 +79,91 @@ fn a_pasted_case_runs() {
         ],
     );
 }
+
+/// `fuzz/fuzz_targets/adversarial.rs` on two of its own seeds (bytes
+/// `JhQEAAQAAAQABAQABAAAAAAAAAAAAAAAAAAPA+T9` and `...PAxwC`, base64): a
+/// 2 x 1 slab with heights 0..3 scaled by `2^-540` and by `2^540`. Every
+/// loop's exact area is a small multiple of `2^-1080` (nearer to 0 than
+/// to any other double, so its rounded area is 0, README), or of `2^1080`
+/// (beyond `f64::MAX`: rounded to infinity); the invariant check once
+/// called both the wrong sign. The target's check: accepted, then every
+/// SPEC 7 invariant at every vertex height and midpoint.
+#[test]
+fn adversarial_loops_whose_area_rounds_to_zero_or_infinity() {
+    for e in [-540, 540] {
+        slab_2x1_scaled(2f64.powi(e));
+    }
+}
+
+fn slab_2x1_scaled(s: f64) {
+    use wmslice::datasets::slab::heights_and_midpoints;
+    use wmslice::levelset::check::check_level_invariants;
+    // Vertex i: x = (i mod 12) / 4, y = i / 12 - 2, z = i mod 4, times s.
+    let positions: Vec<[f64; 3]> = (0..24)
+        .map(|i: i32| {
+            [
+                f64::from((i % 12) / 4),
+                f64::from(i / 12 - 2),
+                f64::from(i % 4),
+            ]
+            .map(|v| v * s)
+        })
+        .collect();
+    let faces: Vec<[u32; 3]> = vec![
+        [12, 13, 17],
+        [0, 5, 1],
+        [12, 17, 16],
+        [0, 4, 5],
+        [13, 14, 18],
+        [1, 6, 2],
+        [13, 18, 17],
+        [1, 5, 6],
+        [14, 15, 19],
+        [2, 7, 3],
+        [14, 19, 18],
+        [2, 6, 7],
+        [16, 17, 21],
+        [4, 9, 5],
+        [16, 21, 20],
+        [4, 8, 9],
+        [17, 18, 21],
+        [5, 9, 6],
+        [18, 22, 21],
+        [6, 9, 10],
+        [18, 19, 22],
+        [6, 10, 7],
+        [19, 23, 22],
+        [7, 10, 11],
+        [0, 1, 13],
+        [0, 13, 12],
+        [1, 2, 14],
+        [1, 14, 13],
+        [2, 3, 15],
+        [2, 15, 14],
+        [3, 7, 19],
+        [3, 19, 15],
+        [7, 11, 23],
+        [7, 23, 19],
+        [11, 10, 22],
+        [11, 22, 23],
+        [10, 9, 21],
+        [10, 21, 22],
+        [9, 8, 20],
+        [9, 20, 21],
+        [8, 4, 16],
+        [8, 16, 20],
+        [4, 0, 12],
+        [4, 12, 16],
+    ];
+    let mesh = wmslice::Mesh::from_raw(positions, faces);
+    assert_eq!(mesh.pos(wmslice::VertexId(1)), [0.0, -2.0 * s, s]);
+    let slicer = wmslice::Slicer::new(&mesh).expect("a closed slab, accepted");
+    let levels = heights_and_midpoints(&mesh);
+    assert!(levels.len() >= 7);
+    for c in levels.iter().take(40) {
+        let ls = slicer.slice_at(c).expect("sliced");
+        if let Err(e) = check_level_invariants(&mesh, slicer.topology(), &ls) {
+            panic!("scale {s:e}, at {c}: {e}");
+        }
+    }
+}

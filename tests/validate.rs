@@ -194,21 +194,35 @@ fn with_sliver(apex: [f64; 3]) -> Mesh {
 
 #[test]
 fn an_unrepaired_degenerate_face_is_refused_and_named_flippable() {
+    // Face 1 = [0, 1, 4] is the segment v0-v1 with v4 at its midpoint (a
+    // T-junction). Face 0 = [0, 2, 1] holds that whole segment; face 2 =
+    // [0, 4, 3] holds v0-v4 and shares only v0 with it, face 3 = [4, 1, 3]
+    // holds v4-v1 and shares only v1: both meet face 0 along a segment
+    // outside their shared elements (SPEC 1), so unrepaired the mesh also
+    // self-intersects. Every other pair meets only in what it shares:
+    // faces 2 and 3 lie in the plane y = 0 on either side of their edge
+    // v4-v3, face 1 meets its neighbours along its edges' line only where
+    // they hold its edges.
     let m = with_sliver(TETRA_POS[3]);
     let r = validate(&m);
     assert!(!r.is_accepted(), "{r}");
     assert_eq!(
         r.defects,
-        vec![Defect::DegenerateFace {
-            face: f(1),
-            why: wmslice::mesh::flip::Unflippable::Flippable {
-                apex: v(4),
-                edge: [v(0), v(1)],
-                beyond: f(0)
-            }
-        }]
+        vec![
+            Defect::DegenerateFace {
+                face: f(1),
+                why: wmslice::mesh::flip::Unflippable::Flippable {
+                    apex: v(4),
+                    edge: [v(0), v(1)],
+                    beyond: f(0)
+                }
+            },
+            Defect::SelfIntersection { a: f(0), b: f(2) },
+            Defect::SelfIntersection { a: f(0), b: f(3) },
+        ]
     );
-    // Flipping edge 0-1 of faces 1 and 0 leaves an accepted mesh.
+    // Flipping edge 0-1 of faces 1 and 0 leaves an accepted mesh: no
+    // T-junction is left, so no self-intersection either.
     let repaired = wmslice::mesh::flip::repair_degenerate(&m);
     assert_eq!(repaired.flips.len(), 1);
     assert_eq!(repaired.mesh.faces[1], [v(0), v(2), v(4)]);
@@ -324,9 +338,9 @@ fn snapping_that_flattens_a_sliver_is_caught_and_named() {
 
 #[test]
 fn validation_reports_the_same_on_one_and_on_several_threads() {
-    // Volume, duplicates, topology, zero-area faces and folds are found by
-    // passes that run side by side on a pool: the report must not depend
-    // on its size.
+    // Volume, duplicates, topology, zero-area faces, folds and
+    // self-intersections are found by passes that run side by side on a
+    // pool: the report must not depend on its size.
     let mut duplicated = tetra();
     duplicated.faces.push(duplicated.faces[2]);
     duplicated.faces.push(duplicated.faces[0]);
@@ -360,6 +374,7 @@ fn validation_reports_the_same_on_one_and_on_several_threads() {
             face: f(0),
             why: wmslice::mesh::flip::Unflippable::CoincidentVertices { a: v(0), b: v(0) },
         },
+        Defect::SelfIntersection { a: f(0), b: f(0) },
         Defect::Fold {
             a: v(0),
             b: v(0),

@@ -28,8 +28,13 @@ fn add_sliver(mesh: &mut Mesh, f: usize, corner: usize) {
     let (a, b, c) = (t[corner], t[(corner + 1) % 3], t[(corner + 2) % 3]);
     let (pa, pb) = (mesh.pos(a), mesh.pos(b));
     let mid = [0, 1, 2].map(|k| pa[k] / 2.0 + pb[k] / 2.0);
+    // Scaling may have made coordinates infinite (validation refuses them
+    // later); the exact predicates take finite ones only.
+    if [pa, pb, mid].iter().flatten().any(|v| !v.is_finite()) {
+        return;
+    }
     let inside = is_degenerate_triangle(pa, pb, mid) && mid != pa && mid != pb;
-    if !inside || mid.iter().any(|v| !v.is_finite()) {
+    if !inside {
         return;
     }
     let m = VertexId(mesh.positions.len() as u32);

@@ -12,6 +12,7 @@ pub mod filter;
 pub mod grid;
 pub mod homogeneous;
 pub mod level;
+pub mod orient_filter;
 pub mod perturbed;
 pub mod planar;
 pub mod point;

@@ -177,7 +177,7 @@ pub struct LevelSet {
 pub enum SliceError {
     /// The mesh is not accepted (SPEC section 1); the report names every
     /// defect.
-    #[error("the mesh is not a closed, consistently oriented 2-manifold:\n{0}")]
+    #[error("the mesh is not accepted for slicing (SPEC 1: closed, oriented, manifold, no fold, self-intersection or degenerate face):\n{0}")]
     InvalidMesh(Box<Report>),
     /// Chaining failed: an internal error.
     #[error(transparent)]

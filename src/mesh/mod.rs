@@ -6,6 +6,7 @@
 //! values the file holds (every finite `f64` is an exact dyadic rational).
 
 pub mod flip;
+pub mod intersect;
 pub mod io;
 pub mod prepare;
 pub mod snap;

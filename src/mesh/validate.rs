@@ -4,22 +4,30 @@
 //!
 //! A mesh is accepted for slicing (SPEC section 1) when it has no defect of
 //! [`Severity::Error`]: closed, every edge in exactly two faces with
-//! opposite directions, every vertex link one cycle, no fold, finite
-//! coordinates, indices in range, no repeated vertex in a face, no duplicate
-//! face, no degenerate face (three collinear vertices: those an edge flip
-//! removes are removed before, by [`crate::mesh::flip`], so one left is
-//! named with the reason it could not be flipped), and exact signed
-//! volume > 0. Unused vertices are reported as warnings. Every test is
-//! exact.
+//! opposite directions, every vertex link one cycle, no fold, no
+//! self-intersection, finite coordinates, indices in range, no repeated
+//! vertex in a face, no duplicate face, no degenerate face (three collinear
+//! vertices: those an edge flip removes are removed before, by
+//! [`crate::mesh::flip`], so one left is named with the reason it could not
+//! be flipped), and exact signed volume > 0. Unused vertices are reported
+//! as warnings. Every test is exact.
+//!
+//! Folds and self-intersections are decided for closed, oriented, manifold
+//! meshes with finite coordinates (the others are rejected already), by
+//! [`crate::mesh::intersect`]. A fold is the one self-intersection of two
+//! faces on an edge that proper triangles can have; it is reported as
+//! [`Defect::Fold`], by its edge, and never again as a
+//! [`Defect::SelfIntersection`], which names every other pair.
 //! [`accept`] gives the slicer the same verdict, without computing the
 //! exact volume of a mesh that a certified floating-point sum shows to be
 //! positive.
 
-use crate::exact::predicates::{is_degenerate_triangle, orient2d_axes, orient3d, Sign};
+use crate::exact::predicates::{is_degenerate_triangle, Sign};
 use crate::exact::rational::{rat_to_string, Rat};
 use crate::exact::volume::{signed_volume, volume_sign_filter};
 use crate::ids::{FaceId, VertexId};
 use crate::mesh::flip::{diagnose, Unflippable};
+use crate::mesh::intersect::{edge_overlaps, separate_face_pairs, EdgeOverlap};
 use crate::mesh::topology::{Topology, TopologyIssue, NO_FACE};
 use crate::mesh::Mesh;
 use crate::par;
@@ -137,6 +145,16 @@ pub enum Defect {
         b: VertexId,
         /// The two faces.
         faces: Vec<FaceId>,
+    },
+    /// Two faces meet anywhere but in the vertices and edges they share
+    /// (touching counts), decided exactly; `a < b`. Two faces on an edge
+    /// that fold onto each other are a [`Defect::Fold`] instead.
+    #[error("faces {a} and {b} intersect: they meet outside the vertices and edges they share")]
+    SelfIntersection {
+        /// The face with the smaller id.
+        a: FaceId,
+        /// The other face.
+        b: FaceId,
     },
     /// The exact signed volume is not positive: the mesh is inside out.
     #[error(
@@ -413,23 +431,55 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
         }
     }
     // The component count (a serial union-find) beside the fold check
-    // (parallel over edges).
-    let (components, folded) = par::join(
+    // (parallel over edges) and the self-intersection test.
+    let geometric = finite && closed_manifold;
+    let (components, (edge_defects, apart)) = par::join(
         parallel,
         || components(mesh, &topo),
         || {
-            if finite && closed_manifold {
-                folds(mesh, &topo)
-            } else {
-                Vec::new()
-            }
+            par::join(
+                parallel,
+                || {
+                    if geometric {
+                        edge_overlaps(mesh, &topo)
+                    } else {
+                        Vec::new()
+                    }
+                },
+                || geometric.then(|| separate_face_pairs(mesh, &topo, MAX_LISTED_DEFECTS)),
+            )
         },
     );
     let degenerate = diagnose(mesh, &degenerate)
         .into_iter()
         .map(|(face, why)| Defect::DegenerateFace { face, why });
-    for d in degenerate.chain(folded) {
+    for d in degenerate {
         sink.push(d);
+    }
+    let mut intersecting = Vec::new();
+    for (e, kind) in edge_defects {
+        let edge = topo.edge(e);
+        let mut faces = edge.faces;
+        faces.sort_unstable();
+        match kind {
+            EdgeOverlap::Fold => sink.push(Defect::Fold {
+                a: edge.v[0],
+                b: edge.v[1],
+                faces: faces.to_vec(),
+            }),
+            EdgeOverlap::Collinear => intersecting.push((faces[0], faces[1])),
+            EdgeOverlap::Proper => {}
+        }
+    }
+    if let Some(apart) = apart {
+        // Both lists are ascending; the first MAX_LISTED_DEFECTS of their
+        // union are among the listed ones of each.
+        intersecting.extend(apart.pairs);
+        intersecting.sort_unstable();
+        sink.unlisted += apart.unlisted;
+    }
+    for (a, b) in intersecting {
+        sink.push(Defect::SelfIntersection { a, b });
     }
     if volume_computed
         && closed_manifold
@@ -593,42 +643,6 @@ fn degenerate_faces(mesh: &Mesh) -> Vec<FaceId> {
             is_degenerate_triangle(a, b, c)
         })
         .map(FaceId::from_idx)
-        .collect()
-}
-
-/// Edges whose two faces fold onto each other, in edge order: two faces
-/// on an edge, coplanar (exact orient3d), with their third vertices on the
-/// same side of the edge within that plane (exact orient2d in a projection
-/// where the first face is not degenerate).
-fn folds(mesh: &Mesh, topo: &Topology) -> Vec<Defect> {
-    topo.edges
-        .par_iter()
-        .with_min_len(par::MIN_LEN)
-        .filter(|e| {
-            let a = mesh.pos(e.v[0]);
-            let b = mesh.pos(e.v[1]);
-            let c = mesh.pos(e.opposite[0]);
-            let d = mesh.pos(e.opposite[1]);
-            if orient3d(a, b, c, d) != Sign::Zero
-                || is_degenerate_triangle(a, b, c)
-                || is_degenerate_triangle(a, b, d)
-            {
-                return false;
-            }
-            [(0, 1), (1, 2), (2, 0)]
-                .into_iter()
-                .find(|&(i, j)| orient2d_axes(a, b, c, i, j) != Sign::Zero)
-                .is_some_and(|(i, j)| orient2d_axes(a, b, c, i, j) == orient2d_axes(a, b, d, i, j))
-        })
-        .map(|e| {
-            let mut faces = e.faces.to_vec();
-            faces.sort_unstable();
-            Defect::Fold {
-                a: e.v[0],
-                b: e.v[1],
-                faces,
-            }
-        })
         .collect()
 }
 

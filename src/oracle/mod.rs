@@ -56,6 +56,18 @@ extern "C" {
         err_len: usize,
     ) -> c_int;
     fn wmo_free(result: *mut WmoResult);
+    fn wmo_self_intersections(
+        xyz: *const f64,
+        num_vertices: usize,
+        faces: *const u32,
+        num_faces: usize,
+        does_intersect: *mut c_int,
+        pairs: *mut u32,
+        max_pairs: usize,
+        num_pairs: *mut usize,
+        err: *mut c_char,
+        err_len: usize,
+    ) -> c_int;
 }
 
 /// The class of an in-plane edge (both ends on the plane), per SPEC
@@ -168,6 +180,69 @@ pub fn oracle_classify(mesh: &Mesh, level: &Rat) -> Result<OracleResult, OracleE
     // SAFETY: as above.
     unsafe { wmo_free(raw) };
     out
+}
+
+/// CGAL's self-intersection verdict on a closed, oriented 2-manifold mesh.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct OracleSelfIntersections {
+    /// `CGAL::Polygon_mesh_processing::does_self_intersect`.
+    pub does_intersect: bool,
+    /// The pairs `self_intersections` reports, smaller id first, ascending;
+    /// a degenerate face `f` comes as `(f, f)`. CGAL counts a fold (two
+    /// faces on an edge, coplanar, on one side of it) as an intersecting
+    /// pair, where this crate names it a [`crate::mesh::validate::Defect::Fold`].
+    pub pairs: Vec<(FaceId, FaceId)>,
+}
+
+/// Runs CGAL's exact self-intersection test (Epeck; see `oracle.h` for the
+/// notion it decides) on `mesh`.
+pub fn oracle_self_intersections(mesh: &Mesh) -> Result<OracleSelfIntersections, OracleError> {
+    let xyz: Vec<f64> = mesh.positions.iter().flatten().copied().collect();
+    let faces: Vec<u32> = mesh.faces.iter().flat_map(|f| f.map(|v| v.0)).collect();
+    let mut err = vec![0 as c_char; 1024];
+    let mut capacity = 64usize;
+    loop {
+        let mut pairs = vec![0u32; 2 * capacity];
+        let (mut does, mut count): (c_int, usize) = (0, 0);
+        let guard = LOCK.lock().unwrap_or_else(|p| p.into_inner());
+        // SAFETY: every pointer is valid for the lengths passed; the shim
+        // writes at most `2 * capacity` ids to `pairs`, `does`, `count`
+        // and at most `err.len()` bytes of `err`.
+        let code = unsafe {
+            wmo_self_intersections(
+                xyz.as_ptr(),
+                mesh.num_vertices(),
+                faces.as_ptr(),
+                mesh.num_faces(),
+                &mut does,
+                pairs.as_mut_ptr(),
+                capacity,
+                &mut count,
+                err.as_mut_ptr(),
+                err.len(),
+            )
+        };
+        drop(guard);
+        if code != 0 {
+            // SAFETY: the shim NUL-terminates `err` within its length.
+            let message = unsafe { CStr::from_ptr(err.as_ptr()) }
+                .to_string_lossy()
+                .into_owned();
+            return Err(OracleError::Failed { code, message });
+        }
+        if count > capacity {
+            capacity = count;
+            continue;
+        }
+        let pairs = pairs[..2 * count]
+            .chunks_exact(2)
+            .map(|p| (FaceId(p[0]), FaceId(p[1])))
+            .collect();
+        return Ok(OracleSelfIntersections {
+            does_intersect: does != 0,
+            pairs,
+        });
+    }
 }
 
 /// Copies a C result into Rust types.

@@ -1,0 +1,440 @@
+//! Input: a mesh with finite coordinates. Output: every pair of faces with
+//! no shared vertex id whose closed bounding volumes meet, handed to a
+//! test.
+//!
+//! The broad phase of the self-intersection test: a bounding-volume
+//! hierarchy over the faces, in the Morton order of their first vertices
+//! (a heuristic: it shapes the tree, never the answer), with leaves of
+//! [`LEAF`] faces in a complete binary tree, tested against itself node
+//! pair by node pair.
+//!
+//! A face's volume is its box and its extent along the six diagonals
+//! `x +- y`, `x +- z`, `y +- z` (which sharpen the boxes of long faces lying
+//! across the axes, like the radial faces of a flat ring), all as `f32`
+//! bounds that hold the exact ones ([`down32`], [`up32`]), so two faces that
+//! touch have volumes that touch (closed bounds: touching counts).
+//! Coordinates beyond the `f32` range give infinite bounds, which only
+//! makes volumes larger.
+
+use super::Found;
+use crate::ids::FaceId;
+use crate::mesh::Mesh;
+use rayon::prelude::*;
+
+/// Faces per leaf.
+const LEAF: usize = 8;
+
+/// Heights (a node there holds `2^height` leaves) at and above which the
+/// halves of a node are tested on separate rayon tasks.
+const PAR_HEIGHT: u32 = 9;
+
+/// `2^-22` and `2^-140`: the margins of [`down32`] and [`up32`].
+const REL: f64 = 1.0 / 4_194_304.0;
+const ABS: f64 = 7.174648137343064e-43;
+
+/// An `f32` not above `x` (which may be infinite, not NaN).
+///
+/// `m = |x| 2^-22 + 2^-140` is subtracted in `f64` and the result rounded
+/// to the nearest `f32`: the subtraction errs by at most `2^-53 (|x| + m)`,
+/// the conversion by at most `2^-24 |z| + 2^-150` (`z` its input, `2^-150`
+/// half the smallest subnormal `f32`), together less than `2^-23 (|x| + m)
+/// + 2^-150 < m`. Beyond the `f32` range the conversion gives an infinity
+/// (and `x = inf` a NaN), which `min` turns into `f32::MAX`, below such an
+/// `x`; `-inf` stays.
+#[inline]
+fn down32(x: f64) -> f32 {
+    ((x - (x.abs() * REL + ABS)) as f32).min(f32::MAX)
+}
+
+/// An `f32` not below `x` (which may be infinite, not NaN); see [`down32`].
+#[inline]
+fn up32(x: f64) -> f32 {
+    ((x + (x.abs() * REL + ABS)) as f32).max(f32::MIN)
+}
+
+#[inline]
+fn min3(a: f64, b: f64, c: f64) -> f64 {
+    let m = if b < a { b } else { a };
+    if c < m {
+        c
+    } else {
+        m
+    }
+}
+
+#[inline]
+fn max3(a: f64, b: f64, c: f64) -> f64 {
+    let m = if b > a { b } else { a };
+    if c > m {
+        c
+    } else {
+        m
+    }
+}
+
+/// A closed box, its bounds holding the exact ones.
+#[derive(Clone, Copy, Debug)]
+struct Bounds {
+    lo: [f32; 3],
+    hi: [f32; 3],
+}
+
+impl Bounds {
+    const EMPTY: Bounds = Bounds {
+        lo: [f32::INFINITY; 3],
+        hi: [f32::NEG_INFINITY; 3],
+    };
+
+    /// Whether the closed boxes meet (all six comparisons, without
+    /// branches: the answer is rarely predictable).
+    #[inline]
+    fn meets(&self, o: &Bounds) -> bool {
+        (self.lo[0] <= o.hi[0])
+            & (o.lo[0] <= self.hi[0])
+            & (self.lo[1] <= o.hi[1])
+            & (o.lo[1] <= self.hi[1])
+            & (self.lo[2] <= o.hi[2])
+            & (o.lo[2] <= self.hi[2])
+    }
+
+    #[inline]
+    fn union(&self, o: &Bounds) -> Bounds {
+        let mut b = *self;
+        for k in 0..3 {
+            b.lo[k] = b.lo[k].min(o.lo[k]);
+            b.hi[k] = b.hi[k].max(o.hi[k]);
+        }
+        b
+    }
+}
+
+/// A face in the tree: its box, vertex ids and id.
+#[derive(Clone, Copy, Debug)]
+struct Item {
+    bounds: Bounds,
+    v: [u32; 3],
+    face: u32,
+}
+
+/// A face's extent along the diagonals `x + y`, `x - y`, `x + z`, `x - z`,
+/// `y + z`, `y - z` (lows, then highs): each sum is computed in `f64`
+/// (relative error at most `2^-53`, or an infinity beyond the range, far
+/// inside the margin of [`down32`] and [`up32`]), so the bounds hold the
+/// exact extent, and two faces whose extents along one diagonal are apart
+/// do not meet.
+#[derive(Clone, Copy, Debug)]
+struct Slabs {
+    lo: [f32; 6],
+    hi: [f32; 6],
+}
+
+impl Slabs {
+    fn of(p: [[f64; 3]; 3]) -> Slabs {
+        let d = |q: [f64; 3]| {
+            [
+                q[0] + q[1],
+                q[0] - q[1],
+                q[0] + q[2],
+                q[0] - q[2],
+                q[1] + q[2],
+                q[1] - q[2],
+            ]
+        };
+        let (d0, d1, d2) = (d(p[0]), d(p[1]), d(p[2]));
+        Slabs {
+            lo: std::array::from_fn(|k| down32(min3(d0[k], d1[k], d2[k]))),
+            hi: std::array::from_fn(|k| up32(max3(d0[k], d1[k], d2[k]))),
+        }
+    }
+
+    #[inline]
+    fn meets(&self, o: &Slabs) -> bool {
+        (0..6).all(|k| (self.lo[k] <= o.hi[k]) & (o.lo[k] <= self.hi[k]))
+    }
+}
+
+/// The hierarchy: a complete binary tree in heap order (node `n` has
+/// children `2 n` and `2 n + 1`, the root is 1), whose `2^height` leaves
+/// (nodes `2^height ..`) hold [`LEAF`] faces each in Morton order (empty
+/// leaves at the end have empty boxes).
+pub(super) struct Bvh {
+    items: Vec<Item>,
+    /// Per item, its extent along the six diagonals (see [`Slabs`]).
+    slabs: Vec<Slabs>,
+    nodes: Vec<Bounds>,
+    height: u32,
+    parallel: bool,
+}
+
+/// Spreads the low 10 bits of `x` to every third bit.
+fn spread(x: u32) -> u32 {
+    let mut x = x & 0x3ff;
+    x = (x | x << 16) & 0x030000ff;
+    x = (x | x << 8) & 0x0300f00f;
+    x = (x | x << 4) & 0x030c30c3;
+    x = (x | x << 2) & 0x09249249;
+    x
+}
+
+/// Sorts by the high 32 bits, stably (least significant digit first, four
+/// passes of 8 bits).
+fn radix_sort_high(keys: &mut Vec<u64>) {
+    let mut other = vec![0u64; keys.len()];
+    for pass in 0..4 {
+        let shift = 32 + 8 * pass;
+        let mut count = [0usize; 257];
+        for &k in keys.iter() {
+            count[((k >> shift) & 0xff) as usize + 1] += 1;
+        }
+        for d in 0..256 {
+            count[d + 1] += count[d];
+        }
+        for &k in keys.iter() {
+            let d = ((k >> shift) & 0xff) as usize;
+            other[count[d]] = k;
+            count[d] += 1;
+        }
+        std::mem::swap(keys, &mut other);
+    }
+}
+
+impl Bvh {
+    /// Builds the tree over every face (coordinates finite, indices in
+    /// range).
+    pub(super) fn build(mesh: &Mesh, parallel: bool) -> Bvh {
+        let min_len = if parallel {
+            crate::par::MIN_LEN
+        } else {
+            usize::MAX
+        };
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for p in &mesh.positions {
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        let scale: [f64; 3] = std::array::from_fn(|k| {
+            let w = hi[k] - lo[k];
+            if w > 0.0 {
+                1023.0 / w
+            } else {
+                0.0
+            }
+        });
+        // The Morton code of each face's first vertex's cell (a heuristic
+        // that shapes the tree only; the casts saturate) above its id.
+        let mut keys: Vec<u64> = mesh
+            .faces
+            .par_iter()
+            .with_min_len(min_len)
+            .enumerate()
+            .map(|(f, tri)| {
+                let [a, b, c] = tri.map(|v| mesh.pos(v));
+                let mut code = 0u32;
+                for k in 0..3 {
+                    let m = (a[k] + b[k] + c[k]) * (1.0 / 3.0);
+                    code |= spread(((m - lo[k]) * scale[k]) as u32) << k;
+                }
+                u64::from(code) << 32 | f as u64
+            })
+            .collect();
+        radix_sort_high(&mut keys);
+        let items: Vec<Item> = keys
+            .par_iter()
+            .with_min_len(min_len)
+            .map(|&k| {
+                let face = k as u32;
+                let v = mesh.faces[face as usize].map(|v| v.0);
+                let p = v.map(|v| mesh.positions[v as usize]);
+                let b = Bounds {
+                    lo: std::array::from_fn(|k| down32(min3(p[0][k], p[1][k], p[2][k]))),
+                    hi: std::array::from_fn(|k| up32(max3(p[0][k], p[1][k], p[2][k]))),
+                };
+                Item { bounds: b, v, face }
+            })
+            .collect();
+        drop(keys);
+        let slabs: Vec<Slabs> = items
+            .par_iter()
+            .with_min_len(min_len)
+            .map(|it| Slabs::of(it.v.map(|v| mesh.positions[v as usize])))
+            .collect();
+        let leaves = items.len().div_ceil(LEAF).max(1);
+        let height = leaves.next_power_of_two().trailing_zeros();
+        let first = 1usize << height;
+        let mut nodes = vec![Bounds::EMPTY; 2 * first];
+        nodes[first..first + leaves]
+            .par_iter_mut()
+            .with_min_len(min_len / LEAF)
+            .zip(items.par_chunks(LEAF))
+            .for_each(|(n, c)| *n = c.iter().fold(Bounds::EMPTY, |b, x| b.union(&x.bounds)));
+        for n in (1..first).rev() {
+            nodes[n] = nodes[2 * n].union(&nodes[2 * n + 1]);
+        }
+        Bvh {
+            items,
+            slabs,
+            nodes,
+            height,
+            parallel,
+        }
+    }
+
+    /// Calls `test` on every pair of faces with no shared vertex id whose
+    /// volumes meet, and collects the pairs it accepts.
+    #[inline(never)]
+    pub(super) fn pairs<T>(&self, test: &T, keep: usize) -> Found
+    where
+        T: Fn(FaceId, FaceId) -> bool + Sync,
+    {
+        let mut found = Found::new(keep);
+        self.within(1, self.height, test, &mut found);
+        found
+    }
+
+    /// The positions of the faces of leaf `i` (none for a padding leaf).
+    #[inline]
+    fn leaf(&self, i: usize) -> std::ops::Range<usize> {
+        let n = self.items.len();
+        (i * LEAF).min(n)..((i + 1) * LEAF).min(n)
+    }
+
+    #[inline]
+    fn par(&self, h: u32) -> bool {
+        self.parallel && h >= PAR_HEIGHT
+    }
+
+    /// Pairs within node `n` of height `h`.
+    fn within<T>(&self, n: usize, h: u32, test: &T, found: &mut Found)
+    where
+        T: Fn(FaceId, FaceId) -> bool + Sync,
+    {
+        if h == 0 {
+            let own = self.leaf(n - (1 << self.height));
+            for a in own.clone() {
+                for b in a + 1..own.end {
+                    self.visit(a, b, test, found);
+                }
+            }
+            return;
+        }
+        let (a, b) = (2 * n, 2 * n + 1);
+        if self.par(h) {
+            let keep = found.keep;
+            let (mut x, mut y, mut z) = (Found::new(keep), Found::new(keep), Found::new(keep));
+            rayon::join(
+                || self.within(a, h - 1, test, &mut x),
+                || {
+                    rayon::join(
+                        || self.within(b, h - 1, test, &mut y),
+                        || self.across(a, b, h - 1, test, &mut z),
+                    )
+                },
+            );
+            found.absorb(x);
+            found.absorb(y);
+            found.absorb(z);
+        } else {
+            self.within(a, h - 1, test, found);
+            self.within(b, h - 1, test, found);
+            self.across(a, b, h - 1, test, found);
+        }
+    }
+
+    /// Pairs with one face in node `i` and one in node `j`, both of height
+    /// `h`.
+    fn across<T>(&self, i: usize, j: usize, h: u32, test: &T, found: &mut Found)
+    where
+        T: Fn(FaceId, FaceId) -> bool + Sync,
+    {
+        let (bi, bj) = (&self.nodes[i], &self.nodes[j]);
+        if !bi.meets(bj) {
+            return;
+        }
+        if h == 0 {
+            let first = 1 << self.height;
+            return self.leaf_pair(i - first, j - first, bi, bj, test, found);
+        }
+        let (i0, i1, j0, j1) = (2 * i, 2 * i + 1, 2 * j, 2 * j + 1);
+        if self.par(h) {
+            let keep = found.keep;
+            let mut parts = [(); 4].map(|_| Found::new(keep));
+            let [p0, p1, p2, p3] = &mut parts;
+            rayon::join(
+                || {
+                    rayon::join(
+                        || self.across(i0, j0, h - 1, test, p0),
+                        || self.across(i0, j1, h - 1, test, p1),
+                    )
+                },
+                || {
+                    rayon::join(
+                        || self.across(i1, j0, h - 1, test, p2),
+                        || self.across(i1, j1, h - 1, test, p3),
+                    )
+                },
+            );
+            for p in parts {
+                found.absorb(p);
+            }
+        } else {
+            self.across(i0, j0, h - 1, test, found);
+            self.across(i0, j1, h - 1, test, found);
+            self.across(i1, j0, h - 1, test, found);
+            self.across(i1, j1, h - 1, test, found);
+        }
+    }
+
+    /// The pairs with one face in leaf `i` and one in leaf `j` (of boxes
+    /// `bi`, `bj`): only faces that meet the other leaf's box.
+    #[inline]
+    fn leaf_pair<T>(
+        &self,
+        i: usize,
+        j: usize,
+        bi: &Bounds,
+        bj: &Bounds,
+        test: &T,
+        found: &mut Found,
+    ) where
+        T: Fn(FaceId, FaceId) -> bool,
+    {
+        let mut near = [0usize; LEAF];
+        let mut n = 0;
+        for b in self.leaf(j) {
+            near[n] = b;
+            n += usize::from(self.items[b].bounds.meets(bi));
+        }
+        if n == 0 {
+            return;
+        }
+        for a in self.leaf(i) {
+            if self.items[a].bounds.meets(bj) {
+                for &b in &near[..n] {
+                    self.visit(a, b, test, found);
+                }
+            }
+        }
+    }
+
+    /// Tests the faces at positions `a` and `b` when their volumes meet
+    /// and they share no vertex id.
+    #[inline(always)]
+    fn visit<T>(&self, a: usize, b: usize, test: &T, found: &mut Found)
+    where
+        T: Fn(FaceId, FaceId) -> bool,
+    {
+        let (x, y) = (&self.items[a], &self.items[b]);
+        if x.bounds.meets(&y.bounds)
+            && !x.v.iter().any(|v| y.v.contains(v))
+            && self.slabs[a].meets(&self.slabs[b])
+        {
+            let (fa, fb) = (FaceId(x.face), FaceId(y.face));
+            if test(fa, fb) {
+                found.push(fa, fb);
+            }
+        }
+    }
+}

@@ -1,0 +1,187 @@
+//! Input: a closed, oriented, manifold [`Mesh`] with finite coordinates and
+//! its [`Topology`]. Output: its self-intersections (SPEC section 1): the
+//! pairs of faces that meet anywhere but in the vertices and edges they
+//! share, decided exactly.
+//!
+//! Two faces are tested by the ids they share:
+//!
+//! - an edge: the edge table's two faces ([`edge_overlaps`]); a fold
+//!   (both proper, in one plane, on one side) is reported by validation as
+//!   `Defect::Fold`, the rest (two zero-area faces running on along the
+//!   edge's line) as self-intersections;
+//! - one vertex: the non-neighbouring faces of its fan (`fan.rs`), skipped
+//!   for a fan that projects as a star;
+//! - none: the pairs whose closed bounding boxes meet (`bvh.rs`), each
+//!   tested exactly (`narrow.rs`); touching counts, so two bodies that
+//!   touch at a point without sharing a vertex id self-intersect.
+//!
+//! Every decision is exact, with no tolerance: signs come from the exact
+//! predicates, or from floating-point filters only where their proven
+//! error bound shows the sign ([`crate::exact::orient_filter`]); the
+//! broad phase's `f32` bounds are rounded outward, so they can only let
+//! more pairs through to the exact tests, never fewer.
+//!
+//! Every pair is found once, by exactly one of these. Work is spread over
+//! rayon's pool for large meshes (see `crate::par`); the answer does not
+//! depend on it: pairs are listed in ascending order, the first `keep`
+//! listed and the rest counted.
+
+mod bvh;
+mod fan;
+mod narrow;
+#[cfg(test)]
+mod tests;
+
+pub use narrow::EdgeOverlap;
+
+use crate::exact::orient_filter::Filter;
+use crate::ids::{EdgeId, FaceId, VertexId};
+use crate::mesh::topology::Topology;
+use crate::mesh::Mesh;
+use crate::par;
+use rayon::prelude::*;
+
+/// Face pairs, ascending, each `(a, b)` with `a < b`.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct FacePairs {
+    /// The first pairs in ascending order.
+    pub pairs: Vec<(FaceId, FaceId)>,
+    /// How many more pairs there are.
+    pub unlisted: usize,
+}
+
+/// Pairs being collected: the `keep` smallest seen, and a count of the
+/// others.
+#[derive(Debug)]
+pub(crate) struct Found {
+    pairs: Vec<(FaceId, FaceId)>,
+    dropped: usize,
+    pub(crate) keep: usize,
+}
+
+impl Found {
+    pub(crate) fn new(keep: usize) -> Found {
+        Found {
+            pairs: Vec::new(),
+            dropped: 0,
+            keep,
+        }
+    }
+
+    pub(crate) fn push(&mut self, a: FaceId, b: FaceId) {
+        self.pairs.push(if a < b { (a, b) } else { (b, a) });
+        if self.pairs.len() > self.keep.saturating_mul(2).max(64) {
+            self.trim();
+        }
+    }
+
+    /// Adds another collection's pairs and count.
+    pub(crate) fn absorb(&mut self, other: Found) {
+        let me = std::mem::replace(self, Found::new(self.keep));
+        *self = me.merged(other);
+    }
+
+    pub(crate) fn merged(mut self, mut other: Found) -> Found {
+        if self.pairs.len() < other.pairs.len() {
+            std::mem::swap(&mut self.pairs, &mut other.pairs);
+        }
+        self.pairs.append(&mut other.pairs);
+        self.dropped += other.dropped;
+        if self.pairs.len() > self.keep {
+            self.trim();
+        }
+        self
+    }
+
+    /// Keeps the `keep` smallest pairs.
+    fn trim(&mut self) {
+        if self.pairs.len() > self.keep {
+            if self.keep > 0 {
+                self.pairs.select_nth_unstable(self.keep - 1);
+            }
+            self.dropped += self.pairs.len() - self.keep;
+            self.pairs.truncate(self.keep);
+        }
+    }
+
+    fn finish(mut self) -> FacePairs {
+        self.trim();
+        self.pairs.sort_unstable();
+        FacePairs {
+            pairs: self.pairs,
+            unlisted: self.dropped,
+        }
+    }
+}
+
+/// The improper edges: each edge whose two faces meet beyond it, with how
+/// (never [`EdgeOverlap::Proper`]), in edge order.
+///
+/// `topo` must be the topology of `mesh` with no issue (closed, oriented,
+/// manifold) and `mesh`'s coordinates finite.
+pub fn edge_overlaps(mesh: &Mesh, topo: &Topology) -> Vec<(EdgeId, EdgeOverlap)> {
+    let filter = Filter::for_points(&mesh.positions);
+    topo.edges
+        .par_iter()
+        .with_min_len(par::MIN_LEN)
+        .enumerate()
+        .filter_map(|(k, e)| {
+            let kind = narrow::edge_faces_overlap(
+                filter,
+                mesh.pos(e.v[0]),
+                mesh.pos(e.v[1]),
+                mesh.pos(e.opposite[0]),
+                mesh.pos(e.opposite[1]),
+            );
+            (kind != EdgeOverlap::Proper).then(|| (EdgeId::from_idx(k), kind))
+        })
+        .collect()
+}
+
+/// The pairs of faces sharing one vertex id or none that meet anywhere but
+/// in that vertex: ascending, the first `keep` listed.
+///
+/// `topo` must be the topology of `mesh` with no issue (closed, oriented,
+/// manifold) and `mesh`'s coordinates finite.
+pub fn separate_face_pairs(mesh: &Mesh, topo: &Topology, keep: usize) -> FacePairs {
+    let filter = Filter::for_points(&mesh.positions);
+    let parallel = mesh.num_faces() >= par::MIN_LEN;
+    let (at_vertices, apart) = par::join(
+        parallel,
+        || {
+            (0..mesh.num_vertices())
+                .into_par_iter()
+                .with_min_len(par::MIN_LEN)
+                .fold(
+                    || Found::new(keep),
+                    |mut found, v| {
+                        let v = VertexId::from_idx(v);
+                        fan::fan_pairs(filter, mesh, v, topo.fan(v), &mut found);
+                        found
+                    },
+                )
+                .reduce(|| Found::new(keep), Found::merged)
+        },
+        || {
+            let tree = bvh::Bvh::build(mesh, parallel);
+            let face = |f: FaceId| mesh.faces[f.idx()].map(|v| mesh.pos(v));
+            tree.pairs(&|a, b| narrow::faces_meet(filter, face(a), face(b)), keep)
+        },
+    );
+    at_vertices.merged(apart).finish()
+}
+
+/// Every improper pair of faces (folds included), ascending: the whole
+/// answer, unbounded, for tests and comparisons.
+///
+/// `topo` must be the topology of `mesh` with no issue and `mesh`'s
+/// coordinates finite.
+pub fn self_intersections(mesh: &Mesh, topo: &Topology) -> Vec<(FaceId, FaceId)> {
+    let mut pairs = separate_face_pairs(mesh, topo, usize::MAX).pairs;
+    for (e, _) in edge_overlaps(mesh, topo) {
+        let [a, b] = topo.edge(e).faces;
+        pairs.push(if a < b { (a, b) } else { (b, a) });
+    }
+    pairs.sort_unstable();
+    pairs
+}
