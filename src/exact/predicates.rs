@@ -209,39 +209,15 @@ fn robust_sign(det: f64) -> Option<Sign> {
     det.is_finite().then(|| Sign::of_cmp(det.partial_cmp(&0.0)))
 }
 
-/// [`orient2d_xy`] on points given as `[x, y]`, with Shewchuk's static
-/// filter inline: `det = (a - c) x (b - c)` in doubles is within
-/// `(3 + 16 u) u (|l| + |r|)` of the exact value (`l`, `r` its two products
-/// as computed; Shewchuk 1997, `ccwerrboundA`, whose proof covers the
-/// rounding of the bound's own evaluation) when nothing underflows or
-/// overflows. A difference of doubles that lands in the subnormals is
-/// exact; a product that underflows is off by at most `2^-1075` more. So
-/// the bound used is `((3 + 16 u) u + 2^-100) (|l| + |r|)`: when it is at
-/// least `2^-900`, `|l| + |r| >= 2^-849`, and the extra
-/// `2^-100 (|l| + |r|) >= 2^-949` covers both products' underflow errors
-/// many times over. When
-/// that bound is finite and at least `2^-900` and `|det|` exceeds it,
-/// `det`'s sign is exact; otherwise [`orient2d_xy`] decides. For hot loops
-/// over points that are doubles.
+/// [`orient2d_xy`] on points given as `[x, y]`: Shewchuk's static filter
+/// first ([`super::orient_filter`], where its bound and range are proven),
+/// the exact predicate where the filter cannot decide. For hot loops over
+/// points that are doubles.
 #[inline]
 pub fn orient2d_points(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
-    const U: f64 = f64::EPSILON / 2.0;
-    // 2^-100 is about 16 ulps of (3 + 16 u) u, so the sum keeps it.
-    const BOUND: f64 = (3.0 + 16.0 * U) * U + 1.0 / (1u128 << 100) as f64;
-    let tiny = f64::from_bits((1023 - 900) << 52);
-    let l = (a[0] - c[0]) * (b[1] - c[1]);
-    let r = (a[1] - c[1]) * (b[0] - c[0]);
-    let det = l - r;
-    let bound = BOUND * (l.abs() + r.abs());
-    if bound >= tiny && bound.is_finite() {
-        if det > bound {
-            return Sign::Positive;
-        }
-        if det < -bound {
-            return Sign::Negative;
-        }
-    }
-    orient2d_xy([a[0], a[1], 0.0], [b[0], b[1], 0.0], [c[0], c[1], 0.0])
+    let [a, b, c] = [a, b, c].map(|p| [p[0], p[1], 0.0]);
+    super::orient_filter::orient2d_axes_filter(a, b, c, 0, 1)
+        .unwrap_or_else(|| orient2d_xy(a, b, c))
 }
 
 /// Exact sign of the orientation of `(a, b, c)` projected on the `(x, y)`

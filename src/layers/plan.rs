@@ -7,6 +7,7 @@
 //! mid-layer, `z_min + H / 2` (as PrusaSlicer does); the default last plane
 //! is the highest `Z0 + k H` not above `z_max`.
 
+use crate::exact::point::gcd_u128;
 use crate::exact::rational::{rat_from_f64, rat_to_string, Rat};
 use crate::mesh::Mesh;
 use num_traits::{Signed, ToPrimitive};
@@ -103,7 +104,7 @@ fn uniform_in_i128(first: &Rat, height: &Rat, n: usize, levels: &mut Vec<Rat>) -
     let (Some((fp, fq)), Some((hp, hq))) = (parts(first), parts(height)) else {
         return false;
     };
-    let g = gcd(fq.unsigned_abs(), hq.unsigned_abs()) as i128;
+    let g = gcd_u128(fq.unsigned_abs(), hq.unsigned_abs()) as i128;
     let ints = || -> Option<(i128, i128, i128)> {
         let d = (fq / g).checked_mul(hq)?;
         let a = fp.checked_mul(d / fq)?;
@@ -117,33 +118,11 @@ fn uniform_in_i128(first: &Rat, height: &Rat, n: usize, levels: &mut Vec<Rat>) -
     };
     let mut num = a;
     for _ in 0..n {
-        let g = gcd(num.unsigned_abs(), d.unsigned_abs()) as i128;
+        let g = gcd_u128(num.unsigned_abs(), d.unsigned_abs()) as i128;
         levels.push(Rat::new_raw((num / g).into(), (d / g).into()));
         num += b;
     }
     true
-}
-
-/// The greatest common divisor (`gcd(0, d) = d`).
-fn gcd(mut a: u128, mut b: u128) -> u128 {
-    if a == 0 {
-        return b;
-    }
-    if b == 0 {
-        return a;
-    }
-    let shift = (a | b).trailing_zeros();
-    a >>= a.trailing_zeros();
-    loop {
-        b >>= b.trailing_zeros();
-        if a > b {
-            std::mem::swap(&mut a, &mut b);
-        }
-        b -= a;
-        if b == 0 {
-            return a << shift;
-        }
-    }
 }
 
 #[cfg(test)]
