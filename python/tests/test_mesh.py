@@ -152,3 +152,23 @@ def test_snap_moves_to_the_grid_and_is_reported():
     (region,) = ls.faces
     assert region.facing == "up" and region.area == Fraction(9, 25)
     assert math.isclose(m.vertices.max(), 0.6)
+
+
+def test_overlapping_and_touching_bodies_are_refused_by_a_face_pair():
+    # Two unit cubes in one mesh (SPEC 1): the second moved by (1/2, 1/2,
+    # 1/2) overlaps the first, moved by (1, 0, 0) it touches it along the
+    # face x = 1 without sharing vertices; both are refused, naming a face
+    # of each cube (faces 0-11 and 12-23). Moved by (2, 0, 0) they are
+    # apart: accepted, and the plane z = 1/2 cuts two unit squares.
+    v, f = unit_cube()
+    for shift in ([0.5, 0.5, 0.5], [1.0, 0.0, 0.0]):
+        vv = np.vstack([v, v + np.array(shift)])
+        ff = np.vstack([f, f + len(v)])
+        with pytest.raises(wmslice.InvalidMesh, match="intersect") as e:
+            wmslice.Mesh(vv, ff)
+        pairs = [(d["a"], d["b"]) for d in e.value.defects if d["kind"] == "self_intersection"]
+        assert pairs, e.value.defects
+        assert all(a < 12 <= b for a, b in pairs)
+    apart = wmslice.Mesh(np.vstack([v, v + np.array([2.0, 0.0, 0.0])]), np.vstack([f, f + len(v)]))
+    ls = apart.slice("1/2", exact=True)
+    assert sorted(l.area_exact for l in ls.contours) == [1, 1]
