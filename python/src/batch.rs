@@ -26,7 +26,7 @@ use wmslice::mesh::prepare::{prepare, Prepared};
 use wmslice::output::atomic::AtomicFile;
 use wmslice::output::certificate::{
     sha256_hex, Certificate, CertificateError, InputPart, LevelPart, Numeric, Options, ResultPart,
-    Tool, Verdict,
+    Tool, Verdict, Verification,
 };
 use wmslice::output::json::{level_text, Exactness, JsonWriter, LevelText, MeshHeader};
 use wmslice::verify::{Checked, Verifier};
@@ -248,6 +248,36 @@ fn options(exact: bool, output: &str) -> Options {
     }
 }
 
+/// Writes a part's certificate (atomically) and returns its path as shown.
+#[allow(clippy::too_many_arguments)]
+fn write_certificate(
+    path: &Path,
+    part: &Part,
+    mesh: MeshHeader,
+    exact: bool,
+    out_name: &str,
+    result: ResultPart,
+    levels: Vec<LevelPart>,
+    verification: Verification,
+) -> Result<String, PartError> {
+    let cert = Certificate {
+        format: "wmslice-certificate",
+        version: 1,
+        tool: Tool::this(),
+        input: InputPart::file(part.name.clone(), &part.bytes),
+        mesh,
+        numeric: Numeric::new(part.prepared.snap.as_ref(), part.prepared.flips.len()),
+        options: options(exact, out_name),
+        result,
+        levels,
+        verification,
+    };
+    let shown = path.display().to_string();
+    wmslice::output::atomic::write_atomic(path, cert.to_json().as_bytes())
+        .map_err(|e| PartError::Io(shown.clone(), e))?;
+    Ok(shown)
+}
+
 #[allow(clippy::too_many_arguments)]
 fn run_part(
     path: &Path,
@@ -404,28 +434,23 @@ fn run_part(
     let verification = std::mem::take(&mut c.verdict)
         .into_verification()
         .map_err(PartError::Certificate)?;
-    let cert = Certificate {
-        format: "wmslice-certificate",
-        version: 1,
-        tool: Tool::this(),
-        input: InputPart::file(part.name.clone(), &part.bytes),
-        mesh: header,
-        numeric: Numeric::new(part.prepared.snap.as_ref(), part.prepared.flips.len()),
-        options: options(exact, &out_name),
-        result: ResultPart {
+    if let Some(cp) = certificate {
+        let result = ResultPart {
             destination: "file",
             sha256: sha,
             bytes,
             verified_document_sha256: verified_sha,
-        },
-        levels: c.parts,
-        verification,
-    };
-    if let Some(cp) = certificate {
-        let shown = cp.display().to_string();
-        wmslice::output::atomic::write_atomic(cp, cert.to_json().as_bytes())
-            .map_err(|e| PartError::Io(shown.clone(), e))?;
-        done.certificate = Some(shown);
+        };
+        done.certificate = Some(write_certificate(
+            cp,
+            &part,
+            header,
+            exact,
+            &out_name,
+            result,
+            c.parts,
+            verification,
+        )?);
     }
     Ok(Ok(done))
 }
@@ -668,29 +693,25 @@ pub fn join_shards<'py>(
                     serde_json::from_str(p).map_err(|e| PartError::Mismatch(e.to_string()))?;
                 parts.extend(more);
             }
-            let cert = Certificate {
-                format: "wmslice-certificate",
-                version: 1,
-                tool: Tool::this(),
-                input: InputPart::file(part.name.clone(), &part.bytes),
-                mesh: header,
-                numeric: Numeric::new(part.prepared.snap.as_ref(), part.prepared.flips.len()),
-                options: options(exact, &out_name),
-                result: ResultPart {
-                    destination: "file",
-                    sha256: sha,
-                    bytes,
-                    verified_document_sha256: verified_sha,
-                },
-                levels: parts,
-                verification: verdict
-                    .into_verification()
-                    .map_err(PartError::Certificate)?,
+            let result = ResultPart {
+                destination: "file",
+                sha256: sha,
+                bytes,
+                verified_document_sha256: verified_sha,
             };
-            let shown = cp.display().to_string();
-            wmslice::output::atomic::write_atomic(cp, cert.to_json().as_bytes())
-                .map_err(|e| PartError::Io(shown.clone(), e))?;
-            done.certificate = Some(shown);
+            let verification = verdict
+                .into_verification()
+                .map_err(PartError::Certificate)?;
+            done.certificate = Some(write_certificate(
+                cp,
+                &part,
+                header,
+                exact,
+                &out_name,
+                result,
+                parts,
+                verification,
+            )?);
         }
         for s in &list {
             let _ = std::fs::remove_file(&s.output);

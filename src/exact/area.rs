@@ -120,6 +120,9 @@ impl ExactPoint for LoopPoint {
 /// roundings, each below `u`). Coordinates must lie within `2^500` and
 /// `n < 2^20`, so nothing overflows; else `None`.
 pub fn rounded_area(q: &[[f64; 2]]) -> Option<f64> {
+    // Output only: the `area` number written without `--exact`. No decision
+    // reads it (orientation, roles and nesting use exact signs); `U` is the
+    // unit roundoff of the certified bound, not a tolerance.
     const U: f64 = f64::EPSILON / 2.0;
     let n = q.len();
     if n < 3 {
