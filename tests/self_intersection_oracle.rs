@@ -34,6 +34,9 @@
 #![cfg(feature = "cgal-oracle")]
 
 mod common;
+#[path = "../bench/meshgen.rs"]
+#[allow(dead_code)]
+mod meshgen;
 
 use common::Slab;
 use proptest::prelude::*;
@@ -212,6 +215,26 @@ fn touching_bodies_intersect_on_both_sides_and_apart_ones_do_not() {
         assert_eq!(compare(&touching), Ok(Some(true)), "{what}");
         let separate = union(&unit, &moved(&other, apart));
         assert_eq!(compare(&separate), Ok(Some(false)), "{what} apart");
+    }
+}
+
+/// CAD-like stepped parts (`bench/meshgen.rs`: a hole, caps and 100 step
+/// flats, each a flat ring of long radial faces whose pairs the search
+/// skips once the ring is certified), in `f32` and turned `f64`, alone and
+/// as two bodies: overlapping, touching along flats (moved one step up),
+/// and apart. CGAL tests every pair its boxes pass.
+#[test]
+fn stepped_parts_agree_with_cgal() {
+    for part in [meshgen::steps(8).to_mesh(), meshgen::steps_f64(8).to_mesh()] {
+        assert_eq!(compare(&part), Ok(Some(false)));
+        for (d, meets) in [
+            ([0.5, 0.25, 0.0], true),
+            ([0.0, 0.0, 1.25], true),
+            ([100.0, 0.0, 0.0], false),
+        ] {
+            let two = union(&part, &moved(&part, d));
+            assert_eq!(compare(&two), Ok(Some(meets)), "moved by {d:?}");
+        }
     }
 }
 

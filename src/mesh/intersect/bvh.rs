@@ -1,14 +1,21 @@
-//! Input: a mesh with finite coordinates. Output: every pair of faces with
-//! no shared vertex id whose closed bounding volumes meet, handed to a
-//! test.
+//! Input: a mesh with finite coordinates and triangles over its vertices
+//! (its faces, or its edges as triangles `(a, b, b)`), optionally each in a
+//! group. Output: every pair of triangles with no shared vertex id, not in
+//! one group, whose closed bounding volumes meet, handed to a test.
 //!
 //! The broad phase of the self-intersection test: a bounding-volume
-//! hierarchy over the faces, in the Morton order of their first vertices
-//! (a heuristic: it shapes the tree, never the answer), with leaves of
-//! [`LEAF`] faces in a complete binary tree, tested against itself node
+//! hierarchy over the triangles, in the Morton order of their centroids (a
+//! heuristic: it shapes the tree, never the answer), with leaves of
+//! [`LEAF`] triangles in a complete binary tree, tested against itself node
 //! pair by node pair.
 //!
-//! A face's volume is its box and its extent along the six diagonals
+//! A group is a set of triangles whose pairs need no test (a certified
+//! patch, `patch.rs`). Its triangles are kept together in the order (at the
+//! place of the group's first triangle), and a node that holds triangles of
+//! one group only is tagged with it, so that two nodes of one group, or a
+//! node of one group on its own, are not descended at all.
+//!
+//! A triangle's volume is its box and its extent along the six diagonals
 //! `x +- y`, `x +- z`, `y +- z` (which sharpen the boxes of long faces lying
 //! across the axes, like the radial faces of a flat ring), all as `f32`
 //! bounds that hold the exact ones ([`down32`], [`up32`]), so two faces that
@@ -17,9 +24,12 @@
 //! makes volumes larger.
 
 use super::Found;
-use crate::ids::FaceId;
+use crate::ids::{FaceId, VertexId};
 use crate::mesh::Mesh;
 use rayon::prelude::*;
+
+/// The group of a triangle in none.
+pub(super) const NO_GROUP: u32 = u32::MAX;
 
 /// Faces per leaf.
 const LEAF: usize = 8;
@@ -108,12 +118,14 @@ impl Bounds {
     }
 }
 
-/// A face in the tree: its box, vertex ids and id.
+/// A triangle in the tree: its box, vertex ids, position in the input and
+/// group.
 #[derive(Clone, Copy, Debug)]
 struct Item {
     bounds: Bounds,
     v: [u32; 3],
     face: u32,
+    group: u32,
 }
 
 /// A face's extent along the diagonals `x + y`, `x - y`, `x + z`, `x - z`,
@@ -162,6 +174,8 @@ pub(super) struct Bvh {
     /// Per item, its extent along the six diagonals (see [`Slabs`]).
     slabs: Vec<Slabs>,
     nodes: Vec<Bounds>,
+    /// Per node, the group all its triangles are in, or [`NO_GROUP`].
+    tags: Vec<u32>,
     height: u32,
     parallel: bool,
 }
@@ -176,9 +190,15 @@ fn spread(x: u32) -> u32 {
     x
 }
 
-/// Sorts by the high 32 bits, stably (least significant digit first, four
-/// passes of 8 bits).
-fn radix_sort_high(keys: &mut Vec<u64>) {
+/// The positions `0..codes.len()` in ascending order of their codes, ties
+/// by position (a stable least-significant-digit radix sort of `code << 32
+/// | position`, four passes of 8 bits).
+fn morton_order(codes: &[u32]) -> Vec<u32> {
+    let mut keys: Vec<u64> = codes
+        .iter()
+        .enumerate()
+        .map(|(t, &c)| u64::from(c) << 32 | t as u64)
+        .collect();
     let mut other = vec![0u64; keys.len()];
     for pass in 0..4 {
         let shift = 32 + 8 * pass;
@@ -194,14 +214,62 @@ fn radix_sort_high(keys: &mut Vec<u64>) {
             other[count[d]] = k;
             count[d] += 1;
         }
-        std::mem::swap(keys, &mut other);
+        std::mem::swap(&mut keys, &mut other);
     }
+    keys.into_iter().map(|k| k as u32).collect()
+}
+
+/// The positions ordered as [`morton_order`], except that the triangles of
+/// a group follow one another (in that order) at the place of the group's
+/// first triangle in it. Groups are numbered from 0.
+fn grouped_order(codes: &[u32], groups: &[u32]) -> Vec<u32> {
+    let morton = morton_order(codes);
+    // Each group's triangles in Morton order, by a counting sort.
+    let n_groups = groups
+        .iter()
+        .filter(|&&g| g != NO_GROUP)
+        .max()
+        .map_or(0, |&g| g as usize + 1);
+    let mut start = vec![0usize; n_groups + 1];
+    for &g in groups.iter().filter(|&&g| g != NO_GROUP) {
+        start[g as usize + 1] += 1;
+    }
+    for g in 0..n_groups {
+        start[g + 1] += start[g];
+    }
+    let mut fill = start.clone();
+    let mut by_group = vec![0u32; start[n_groups]];
+    for &t in &morton {
+        let g = groups[t as usize];
+        if g != NO_GROUP {
+            by_group[fill[g as usize]] = t;
+            fill[g as usize] += 1;
+        }
+    }
+    let mut placed = vec![false; n_groups];
+    let mut order = Vec::with_capacity(morton.len());
+    for &t in &morton {
+        match groups[t as usize] {
+            NO_GROUP => order.push(t),
+            g if !placed[g as usize] => {
+                placed[g as usize] = true;
+                order.extend_from_slice(&by_group[start[g as usize]..start[g as usize + 1]]);
+            }
+            _ => {}
+        }
+    }
+    order
 }
 
 impl Bvh {
-    /// Builds the tree over every face (coordinates finite, indices in
-    /// range).
-    pub(super) fn build(mesh: &Mesh, parallel: bool) -> Bvh {
+    /// Builds the tree over `tris` (coordinates finite, indices in range),
+    /// `groups[t]` the group of triangle `t` (`None`: no groups).
+    pub(super) fn build(
+        mesh: &Mesh,
+        tris: &[[VertexId; 3]],
+        groups: Option<&[u32]>,
+        parallel: bool,
+    ) -> Bvh {
         let min_len = if parallel {
             crate::par::MIN_LEN
         } else {
@@ -223,39 +291,45 @@ impl Bvh {
                 0.0
             }
         });
-        // The Morton code of each face's first vertex's cell (a heuristic
-        // that shapes the tree only; the casts saturate) above its id.
-        let mut keys: Vec<u64> = mesh
-            .faces
+        // The Morton code of each triangle's centroid's cell (a heuristic
+        // that shapes the tree only; the casts saturate).
+        let codes: Vec<u32> = tris
             .par_iter()
             .with_min_len(min_len)
-            .enumerate()
-            .map(|(f, tri)| {
+            .map(|tri| {
                 let [a, b, c] = tri.map(|v| mesh.pos(v));
                 let mut code = 0u32;
                 for k in 0..3 {
                     let m = (a[k] + b[k] + c[k]) * (1.0 / 3.0);
                     code |= spread(((m - lo[k]) * scale[k]) as u32) << k;
                 }
-                u64::from(code) << 32 | f as u64
+                code
             })
             .collect();
-        radix_sort_high(&mut keys);
-        let items: Vec<Item> = keys
+        let order = match groups {
+            None => morton_order(&codes),
+            Some(g) => grouped_order(&codes, g),
+        };
+        let group = |t: usize| groups.map_or(NO_GROUP, |g| g[t]);
+        let items: Vec<Item> = order
             .par_iter()
             .with_min_len(min_len)
-            .map(|&k| {
-                let face = k as u32;
-                let v = mesh.faces[face as usize].map(|v| v.0);
+            .map(|&t| {
+                let v = tris[t as usize].map(|v| v.0);
                 let p = v.map(|v| mesh.positions[v as usize]);
                 let b = Bounds {
                     lo: std::array::from_fn(|k| down32(min3(p[0][k], p[1][k], p[2][k]))),
                     hi: std::array::from_fn(|k| up32(max3(p[0][k], p[1][k], p[2][k]))),
                 };
-                Item { bounds: b, v, face }
+                Item {
+                    bounds: b,
+                    v,
+                    face: t,
+                    group: group(t as usize),
+                }
             })
             .collect();
-        drop(keys);
+        drop(order);
         let slabs: Vec<Slabs> = items
             .par_iter()
             .with_min_len(min_len)
@@ -265,25 +339,37 @@ impl Bvh {
         let height = leaves.next_power_of_two().trailing_zeros();
         let first = 1usize << height;
         let mut nodes = vec![Bounds::EMPTY; 2 * first];
+        let mut tags = vec![NO_GROUP; 2 * first];
         nodes[first..first + leaves]
             .par_iter_mut()
+            .zip(&mut tags[first..first + leaves])
             .with_min_len(min_len / LEAF)
             .zip(items.par_chunks(LEAF))
-            .for_each(|(n, c)| *n = c.iter().fold(Bounds::EMPTY, |b, x| b.union(&x.bounds)));
+            .for_each(|((n, tag), c)| {
+                *n = c.iter().fold(Bounds::EMPTY, |b, x| b.union(&x.bounds));
+                if c.iter().all(|x| x.group == c[0].group) {
+                    *tag = c[0].group;
+                }
+            });
         for n in (1..first).rev() {
             nodes[n] = nodes[2 * n].union(&nodes[2 * n + 1]);
+            if tags[2 * n] == tags[2 * n + 1] {
+                tags[n] = tags[2 * n];
+            }
         }
         Bvh {
             items,
             slabs,
             nodes,
+            tags,
             height,
             parallel,
         }
     }
 
-    /// Calls `test` on every pair of faces with no shared vertex id whose
-    /// volumes meet, and collects the pairs it accepts.
+    /// Calls `test` on every pair of triangles with no shared vertex id,
+    /// not in one group, whose volumes meet (each named by its position in
+    /// the input, as a [`FaceId`]), and collects the pairs it accepts.
     #[inline(never)]
     pub(super) fn pairs<T>(&self, test: &T, keep: usize) -> Found
     where
@@ -311,6 +397,9 @@ impl Bvh {
     where
         T: Fn(FaceId, FaceId) -> bool + Sync,
     {
+        if self.tags[n] != NO_GROUP {
+            return;
+        }
         if h == 0 {
             let own = self.leaf(n - (1 << self.height));
             for a in own.clone() {
@@ -350,7 +439,7 @@ impl Bvh {
         T: Fn(FaceId, FaceId) -> bool + Sync,
     {
         let (bi, bj) = (&self.nodes[i], &self.nodes[j]);
-        if !bi.meets(bj) {
+        if !bi.meets(bj) || (self.tags[i] != NO_GROUP && self.tags[i] == self.tags[j]) {
             return;
         }
         if h == 0 {
@@ -419,8 +508,8 @@ impl Bvh {
         }
     }
 
-    /// Tests the faces at positions `a` and `b` when their volumes meet
-    /// and they share no vertex id.
+    /// Tests the triangles at positions `a` and `b` when their volumes
+    /// meet, they share no vertex id and are not in one group.
     #[inline(always)]
     fn visit<T>(&self, a: usize, b: usize, test: &T, found: &mut Found)
     where
@@ -428,6 +517,7 @@ impl Bvh {
     {
         let (x, y) = (&self.items[a], &self.items[b]);
         if x.bounds.meets(&y.bounds)
+            && (x.group == NO_GROUP || x.group != y.group)
             && !x.v.iter().any(|v| y.v.contains(v))
             && self.slabs[a].meets(&self.slabs[b])
         {

@@ -13,7 +13,10 @@
 //!   for a fan that projects as a star;
 //! - none: the pairs whose closed bounding boxes meet (`bvh.rs`), each
 //!   tested exactly (`narrow.rs`); touching counts, so two bodies that
-//!   touch at a point without sharing a vertex id self-intersect.
+//!   touch at a point without sharing a vertex id self-intersect. Pairs
+//!   within one certified flat patch (`patch.rs`: a planar region whose
+//!   faces are proven not to overlap from its boundary) are skipped, once
+//!   the fans have shown that faces sharing a vertex meet properly.
 //!
 //! Every decision is exact, with no tolerance: signs come from the exact
 //! predicates, or from floating-point filters only where their proven
@@ -29,6 +32,9 @@
 mod bvh;
 mod fan;
 mod narrow;
+mod patch;
+#[cfg(test)]
+mod patch_tests;
 #[cfg(test)]
 mod tests;
 
@@ -93,6 +99,11 @@ impl Found {
         self
     }
 
+    /// Whether no pair was seen.
+    fn is_empty(&self) -> bool {
+        self.pairs.is_empty() && self.dropped == 0
+    }
+
     /// Keeps the `keep` smallest pairs.
     fn trim(&mut self) {
         if self.pairs.len() > self.keep {
@@ -146,7 +157,7 @@ pub fn edge_overlaps(mesh: &Mesh, topo: &Topology) -> Vec<(EdgeId, EdgeOverlap)>
 pub fn separate_face_pairs(mesh: &Mesh, topo: &Topology, keep: usize) -> FacePairs {
     let filter = Filter::for_points(&mesh.positions);
     let parallel = mesh.num_faces() >= par::MIN_LEN;
-    let (at_vertices, apart) = par::join(
+    let (at_vertices, patches) = par::join(
         parallel,
         || {
             (0..mesh.num_vertices())
@@ -162,12 +173,13 @@ pub fn separate_face_pairs(mesh: &Mesh, topo: &Topology, keep: usize) -> FacePai
                 )
                 .reduce(|| Found::new(keep), Found::merged)
         },
-        || {
-            let tree = bvh::Bvh::build(mesh, parallel);
-            let face = |f: FaceId| mesh.faces[f.idx()].map(|v| mesh.pos(v));
-            tree.pairs(&|a, b| narrow::faces_meet(filter, face(a), face(b)), keep)
-        },
+        || patch::certified_patches(filter, mesh, topo),
     );
+    // The patches' proof rests on the fans' pairs all being proper.
+    let groups = at_vertices.is_empty().then_some(&patches[..]);
+    let tree = bvh::Bvh::build(mesh, &mesh.faces, groups, parallel);
+    let face = |f: FaceId| mesh.faces[f.idx()].map(|v| mesh.pos(v));
+    let apart = tree.pairs(&|a, b| narrow::faces_meet(filter, face(a), face(b)), keep);
     at_vertices.merged(apart).finish()
 }
 

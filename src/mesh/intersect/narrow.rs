@@ -36,7 +36,7 @@ pub(crate) type P = [f64; 3];
 
 /// Two coordinate axes to project on.
 #[derive(Clone, Copy, Debug)]
-struct Axes(usize, usize);
+pub(super) struct Axes(usize, usize);
 
 const AXES: [Axes; 3] = [Axes(0, 1), Axes(1, 2), Axes(2, 0)];
 
@@ -46,7 +46,7 @@ impl Axes {
     /// ([`orient2d_axes_filter`], range-checked per call), else the exact
     /// predicate.
     #[inline]
-    fn o2(self, a: P, b: P, c: P) -> Sign {
+    pub(super) fn o2(self, a: P, b: P, c: P) -> Sign {
         orient2d_axes_filter(a, b, c, self.0, self.1)
             .unwrap_or_else(|| orient2d_axes(a, b, c, self.0, self.1))
     }
@@ -162,7 +162,7 @@ impl Shape {
 
 /// Axes on which `(a, b, c)` projects with non-zero area, and its
 /// orientation there; `None` when the three points are collinear.
-fn projection(f: Filter, a: P, b: P, c: P) -> Option<(Axes, Sign)> {
+pub(super) fn projection(f: Filter, a: P, b: P, c: P) -> Option<(Axes, Sign)> {
     // Filtered first: an exactly zero orientation (a face standing on that
     // plane) is slow to prove.
     AXES.iter()
@@ -226,6 +226,21 @@ fn segments_meet_2d(ax: Axes, x: P, y: P, u: P, w: P) -> bool {
     }
     let (d3, d4) = (ax.o2(u, w, x), ax.o2(u, w, y));
     !(d3 == d4 && d3 != Sign::Zero)
+}
+
+/// The closed segments `xy` and `uw` (each with distinct ends) meet, for
+/// four points in a plane that `ax` projects one to one, collinear or not:
+/// apart when one segment's ends are strictly on one side of the other's
+/// line, else (four points on one line) when their intervals along an axis
+/// on which `x` and `y` differ (so it orders that line) are apart.
+pub(super) fn closed_segments_meet_2d(ax: Axes, x: P, y: P, u: P, w: P) -> bool {
+    let (d1, d2) = (ax.o2(x, y, u), ax.o2(x, y, w));
+    if d1 != Sign::Zero || d2 != Sign::Zero {
+        return segments_meet_2d(ax, x, y, u, w);
+    }
+    let k = axis_apart(x, y);
+    let (lo, hi) = (x[k].min(y[k]), x[k].max(y[k]));
+    !(u[k].max(w[k]) < lo || hi < u[k].min(w[k]))
 }
 
 /// A direction point `x` (not at `v`) lies in the closed wedge at `v`
@@ -553,6 +568,23 @@ pub enum EdgeOverlap {
     /// Both of zero area on the edge's line, running on past the same end
     /// of the edge (or, on an edge of zero length, along one ray).
     Collinear,
+}
+
+/// Faces `(a, b, c)` and `(b, a, d)` on the edge `ab` are proper, lie in
+/// one plane, and face the same way there (`c` and `d` strictly on opposite
+/// sides of `ab`): exact, like [`edge_faces_overlap`].
+pub(super) fn flat_across(f: Filter, a: P, b: P, c: P, d: P) -> bool {
+    let coplanar = match flat_axis(&[a, b, c]) {
+        Some(k) => d[k] == a[k],
+        None => {
+            f.orient3d(a, b, c, d)
+                .unwrap_or_else(|| orient3d(a, b, c, d))
+                == Sign::Zero
+        }
+    };
+    // (a, b, c) proper and d strictly across ab from c: (b, a, d) is
+    // proper, of the same orientation in every projection.
+    coplanar && projection(f, a, b, c).is_some_and(|(ax, s)| ax.o2(a, b, d) == s.flip())
 }
 
 /// Faces `(a, b, c)` and `(b, a, d)` on the edge `ab`.

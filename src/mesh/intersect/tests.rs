@@ -433,7 +433,7 @@ proptest! {
 // The whole search against every pair.
 
 /// Every improper pair, by testing all pairs of faces.
-fn all_pairs(mesh: &Mesh) -> Vec<(FaceId, FaceId)> {
+pub(super) fn all_pairs(mesh: &Mesh) -> Vec<(FaceId, FaceId)> {
     let mut out = Vec::new();
     let pos = |v: VertexId| mesh.pos(v);
     for i in 0..mesh.num_faces() {
