@@ -27,11 +27,12 @@ use crate::exact::rational::{rat_to_string, Rat};
 use crate::exact::volume::{signed_volume, volume_sign_filter};
 use crate::ids::{FaceId, VertexId};
 use crate::mesh::flip::{diagnose, Unflippable};
-use crate::mesh::intersect::{edge_overlaps, separate_face_pairs, EdgeOverlap};
+use crate::mesh::intersect::{face_pairs, EdgeOverlap};
 use crate::mesh::topology::{Topology, TopologyIssue, NO_FACE};
 use crate::mesh::Mesh;
 use crate::par;
 use num_traits::Signed;
+use petgraph::unionfind::UnionFind;
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::fmt;
@@ -437,17 +438,12 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
         parallel,
         || components(mesh, &topo),
         || {
-            par::join(
-                parallel,
-                || {
-                    if geometric {
-                        edge_overlaps(mesh, &topo)
-                    } else {
-                        Vec::new()
-                    }
-                },
-                || geometric.then(|| separate_face_pairs(mesh, &topo, MAX_LISTED_DEFECTS)),
-            )
+            if geometric {
+                let (edges, apart) = face_pairs(mesh, &topo, MAX_LISTED_DEFECTS);
+                (edges, Some(apart))
+            } else {
+                (Vec::new(), None)
+            }
         },
     );
     let degenerate = diagnose(mesh, &degenerate)
@@ -648,24 +644,14 @@ fn degenerate_faces(mesh: &Mesh) -> Vec<FaceId> {
 
 fn components(mesh: &Mesh, topo: &Topology) -> usize {
     let n = mesh.num_faces();
-    let mut parent: Vec<u32> = (0..n as u32).collect();
-    fn find(p: &mut [u32], mut x: u32) -> u32 {
-        while p[x as usize] != x {
-            p[x as usize] = p[p[x as usize] as usize];
-            x = p[x as usize];
-        }
-        x
-    }
+    let mut sets = UnionFind::<u32>::new(n);
     for e in &topo.edges {
         let [f, g] = e.faces;
         if f.idx() < n && g.idx() < n {
-            let (rf, rg) = (find(&mut parent, f.0), find(&mut parent, g.0));
-            if rf != rg {
-                parent[rf as usize] = rg;
-            }
+            sets.union(f.0, g.0);
         }
     }
-    (0..n as u32).filter(|&x| find(&mut parent, x) == x).count()
+    (0..n as u32).filter(|&x| sets.find_mut(x) == x).count()
 }
 
 impl fmt::Display for Report {

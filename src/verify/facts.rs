@@ -18,6 +18,7 @@ use crate::ids::VertexId;
 use crate::mesh::topology::Topology;
 use crate::mesh::Mesh;
 use num_traits::{Signed, Zero};
+use petgraph::unionfind::UnionFind;
 use std::collections::{BTreeMap, HashMap};
 
 /// "No component": the face is not in the plane.
@@ -150,15 +151,6 @@ pub(super) fn face_piece(s: [Sign; 3], tri: [u32; 3], edges: [u32; 3]) -> Option
     Some((from?, to?))
 }
 
-fn find(parent: &mut [u32], mut x: u32) -> u32 {
-    while parent[x as usize] != x {
-        let p = parent[x as usize];
-        parent[x as usize] = parent[p as usize];
-        x = p;
-    }
-    x
-}
-
 /// Twice the exact signed (x, y) area of a face, in stored units.
 pub(super) fn twice_area(mesh: &Mesh, f: usize) -> Rat {
     let [a, b, c] = mesh.faces[f].map(|v| mesh.pos(v).map(rat_from_f64));
@@ -178,21 +170,20 @@ impl Facts {
             .filter(|&f| mesh.faces[f].iter().all(|&v| zero(v)))
             .map(|f| f as u32)
             .collect();
-        let mut parent: Vec<u32> = (0..nf as u32).collect();
+        let mut sets = UnionFind::<u32>::new(nf);
         for &f in &in_plane {
             component[f as usize] = 0;
         }
         for e in &topo.edges {
             let [f0, f1] = e.faces.map(|f| f.0);
             if component[f0 as usize] != NONE && component[f1 as usize] != NONE {
-                let (r0, r1) = (find(&mut parent, f0), find(&mut parent, f1));
-                parent[r0.max(r1) as usize] = r0.min(r1);
+                sets.union(f0, f1);
             }
         }
         let mut facing: Vec<(Facing, bool)> = Vec::new();
         let mut id_of_root: HashMap<u32, u32> = HashMap::new();
         for &f in &in_plane {
-            let root = find(&mut parent, f);
+            let root = sets.find_mut(f);
             let id = *id_of_root.entry(root).or_insert_with(|| {
                 facing.push((Facing::Flat, false));
                 (facing.len() - 1) as u32

@@ -125,39 +125,61 @@ impl Found {
     }
 }
 
+/// Every edge's faces, tested: the improper edges (each edge whose two
+/// faces meet beyond it, with how, never [`EdgeOverlap::Proper`], in edge
+/// order), and per edge whether its faces are flat neighbours
+/// ([`narrow::edge_faces`]: the joints of the flat patches).
+fn edge_pass(
+    filter: Filter,
+    mesh: &Mesh,
+    topo: &Topology,
+) -> (Vec<(EdgeId, EdgeOverlap)>, Vec<bool>) {
+    let tested: Vec<(EdgeOverlap, bool)> = topo
+        .edges
+        .par_iter()
+        .with_min_len(par::MIN_LEN)
+        .map(|e| {
+            narrow::edge_faces(
+                filter,
+                mesh.pos(e.v[0]),
+                mesh.pos(e.v[1]),
+                mesh.pos(e.opposite[0]),
+                mesh.pos(e.opposite[1]),
+            )
+        })
+        .collect();
+    let improper = tested
+        .iter()
+        .enumerate()
+        .filter(|(_, (kind, _))| *kind != EdgeOverlap::Proper)
+        .map(|(k, &(kind, _))| (EdgeId::from_idx(k), kind))
+        .collect();
+    (improper, tested.into_iter().map(|(_, flat)| flat).collect())
+}
+
 /// The improper edges: each edge whose two faces meet beyond it, with how
 /// (never [`EdgeOverlap::Proper`]), in edge order.
 ///
 /// `topo` must be the topology of `mesh` with no issue (closed, oriented,
 /// manifold) and `mesh`'s coordinates finite.
 pub fn edge_overlaps(mesh: &Mesh, topo: &Topology) -> Vec<(EdgeId, EdgeOverlap)> {
-    let filter = Filter::for_points(&mesh.positions);
-    topo.edges
-        .par_iter()
-        .with_min_len(par::MIN_LEN)
-        .enumerate()
-        .filter_map(|(k, e)| {
-            let kind = narrow::edge_faces_overlap(
-                filter,
-                mesh.pos(e.v[0]),
-                mesh.pos(e.v[1]),
-                mesh.pos(e.opposite[0]),
-                mesh.pos(e.opposite[1]),
-            );
-            (kind != EdgeOverlap::Proper).then(|| (EdgeId::from_idx(k), kind))
-        })
-        .collect()
+    edge_pass(Filter::for_points(&mesh.positions), mesh, topo).0
 }
 
-/// The pairs of faces sharing one vertex id or none that meet anywhere but
-/// in that vertex: ascending, the first `keep` listed.
+/// The improper edges, as [`edge_overlaps`], and the pairs of faces
+/// sharing one vertex id or none that meet anywhere but in that vertex:
+/// ascending, the first `keep` listed.
 ///
 /// `topo` must be the topology of `mesh` with no issue (closed, oriented,
 /// manifold) and `mesh`'s coordinates finite.
-pub fn separate_face_pairs(mesh: &Mesh, topo: &Topology, keep: usize) -> FacePairs {
+pub fn face_pairs(
+    mesh: &Mesh,
+    topo: &Topology,
+    keep: usize,
+) -> (Vec<(EdgeId, EdgeOverlap)>, FacePairs) {
     let filter = Filter::for_points(&mesh.positions);
     let parallel = mesh.num_faces() >= par::MIN_LEN;
-    let (at_vertices, patches) = par::join(
+    let (at_vertices, (improper, patches)) = par::join(
         parallel,
         || {
             (0..mesh.num_vertices())
@@ -173,14 +195,26 @@ pub fn separate_face_pairs(mesh: &Mesh, topo: &Topology, keep: usize) -> FacePai
                 )
                 .reduce(|| Found::new(keep), Found::merged)
         },
-        || patch::certified_patches(filter, mesh, topo),
+        || {
+            let (improper, flat) = edge_pass(filter, mesh, topo);
+            (
+                improper,
+                patch::certified_patches(filter, mesh, topo, &flat),
+            )
+        },
     );
     // The patches' proof rests on the fans' pairs all being proper.
     let groups = at_vertices.is_empty().then_some(&patches[..]);
     let tree = bvh::Bvh::build(mesh, &mesh.faces, groups, parallel);
     let face = |f: FaceId| mesh.faces[f.idx()].map(|v| mesh.pos(v));
     let apart = tree.pairs(&|a, b| narrow::faces_meet(filter, face(a), face(b)), keep);
-    at_vertices.merged(apart).finish()
+    (improper, at_vertices.merged(apart).finish())
+}
+
+/// The pairs of [`face_pairs`] (its edge pass too, which the search
+/// needs).
+pub fn separate_face_pairs(mesh: &Mesh, topo: &Topology, keep: usize) -> FacePairs {
+    face_pairs(mesh, topo, keep).1
 }
 
 /// Every improper pair of faces (folds included), ascending: the whole
@@ -189,8 +223,9 @@ pub fn separate_face_pairs(mesh: &Mesh, topo: &Topology, keep: usize) -> FacePai
 /// `topo` must be the topology of `mesh` with no issue and `mesh`'s
 /// coordinates finite.
 pub fn self_intersections(mesh: &Mesh, topo: &Topology) -> Vec<(FaceId, FaceId)> {
-    let mut pairs = separate_face_pairs(mesh, topo, usize::MAX).pairs;
-    for (e, _) in edge_overlaps(mesh, topo) {
+    let (improper, apart) = face_pairs(mesh, topo, usize::MAX);
+    let mut pairs = apart.pairs;
+    for (e, _) in improper {
         let [a, b] = topo.edge(e).faces;
         pairs.push(if a < b { (a, b) } else { (b, a) });
     }

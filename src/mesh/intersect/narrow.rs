@@ -12,7 +12,7 @@
 //! - one, `v` ([`vertex_faces_overlap`]): two convex sets that both hold
 //!   `v` meet elsewhere exactly when their tangent cones at `v` share a
 //!   ray, which the signs below decide;
-//! - two, an edge `ab` ([`edge_faces_overlap`]): a fold, or two degenerate
+//! - two, an edge `ab` ([`edge_faces`]): a fold, or two degenerate
 //!   faces running on along the edge's line past the same end.
 //!
 //! A zero-area face (accepted by validation, with a warning) is the segment
@@ -570,23 +570,6 @@ pub enum EdgeOverlap {
     Collinear,
 }
 
-/// Faces `(a, b, c)` and `(b, a, d)` on the edge `ab` are proper, lie in
-/// one plane, and face the same way there (`c` and `d` strictly on opposite
-/// sides of `ab`): exact, like [`edge_faces_overlap`].
-pub(super) fn flat_across(f: Filter, a: P, b: P, c: P, d: P) -> bool {
-    let coplanar = match flat_axis(&[a, b, c]) {
-        Some(k) => d[k] == a[k],
-        None => {
-            f.orient3d(a, b, c, d)
-                .unwrap_or_else(|| orient3d(a, b, c, d))
-                == Sign::Zero
-        }
-    };
-    // (a, b, c) proper and d strictly across ab from c: (b, a, d) is
-    // proper, of the same orientation in every projection.
-    coplanar && projection(f, a, b, c).is_some_and(|(ax, s)| ax.o2(a, b, d) == s.flip())
-}
-
 /// Faces `(a, b, c)` and `(b, a, d)` on the edge `ab`.
 ///
 /// Two faces in different planes meet only along the line `ab`, where a
@@ -595,7 +578,11 @@ pub(super) fn flat_across(f: Filter, a: P, b: P, c: P, d: P) -> bool {
 /// edge. A zero-area face lies on the line `ab` (when `a` and `b` differ),
 /// so it meets a proper neighbour only along the edge, and a zero-area
 /// neighbour beyond the edge only if both run on past the same end.
-pub(crate) fn edge_faces_overlap(f: Filter, a: P, b: P, c: P, d: P) -> EdgeOverlap {
+///
+/// Also whether the faces are *flat neighbours*: both proper, in one plane, facing the same way there (`c` and `d`
+/// strictly on opposite sides of `ab`, so the two have the same
+/// orientation in every projection).
+pub(crate) fn edge_faces(f: Filter, a: P, b: P, c: P, d: P) -> (EdgeOverlap, bool) {
     // When (a, b, c) lies in a plane x_k = c0 and is degenerate, d off
     // that plane makes (a, b, d) proper, and the answer below is `Proper`
     // either way.
@@ -608,17 +595,18 @@ pub(crate) fn edge_faces_overlap(f: Filter, a: P, b: P, c: P, d: P) -> EdgeOverl
         }
     };
     if !coplanar {
-        return EdgeOverlap::Proper;
+        return (EdgeOverlap::Proper, false);
     }
     match (projection(f, a, b, c), projection(f, a, b, d)) {
+        // (a, b, d) proper: d is off the line ab, on one side.
         (Some((ax, s)), Some(_)) => {
             if ax.o2(a, b, d) == s {
-                EdgeOverlap::Fold
+                (EdgeOverlap::Fold, false)
             } else {
-                EdgeOverlap::Proper
+                (EdgeOverlap::Proper, true)
             }
         }
-        (Some(_), None) | (None, Some(_)) => EdgeOverlap::Proper,
+        (Some(_), None) | (None, Some(_)) => (EdgeOverlap::Proper, false),
         (None, None) => {
             let overlap = if a != b {
                 let k = axis_apart(a, b);
@@ -630,11 +618,12 @@ pub(crate) fn edge_faces_overlap(f: Filter, a: P, b: P, c: P, d: P) -> EdgeOverl
             } else {
                 c != a && d != a && same_ray(a, c, d)
             };
-            if overlap {
+            let kind = if overlap {
                 EdgeOverlap::Collinear
             } else {
                 EdgeOverlap::Proper
-            }
+            };
+            (kind, false)
         }
     }
 }

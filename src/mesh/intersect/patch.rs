@@ -11,7 +11,8 @@
 //! boxes cannot see, and that is proven here once per region.
 //!
 //! A *patch* is a set of proper faces in one plane, facing one way, joined
-//! through edges whose two faces are both such ([`flat_across`], exact).
+//! through edges whose two faces are both such (flat neighbours,
+//! [`super::narrow::edge_faces`], exact).
 //! Let `P` be one with at least [`MIN_FACES`] faces, and project it one to
 //! one onto two coordinate axes (where its plane does not stand upright:
 //! every orientation keeps its sign, one for all faces). `P` is
@@ -52,43 +53,34 @@
 //! mesh is refused, and every pair is listed).
 
 use super::bvh::{Bvh, NO_GROUP};
-use super::narrow::{closed_segments_meet_2d, flat_across, projection, Axes};
+use super::narrow::{closed_segments_meet_2d, projection, Axes};
 use crate::exact::orient_filter::Filter;
 use crate::ids::{FaceId, VertexId};
 use crate::mesh::topology::Topology;
 use crate::mesh::Mesh;
 use crate::par;
 use petgraph::unionfind::UnionFind;
-use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// The fewest faces a patch needs to be worth certifying: two faces that
 /// share an edge are never tested anyway.
 pub(super) const MIN_FACES: usize = 16;
 
-/// Per face, its certified patch (numbered from 0), or [`NO_GROUP`].
-pub(super) fn certified_patches(filter: Filter, mesh: &Mesh, topo: &Topology) -> Vec<u32> {
+/// Per face, its certified patch (numbered from 0), or [`NO_GROUP`];
+/// `flat[e]` tells whether the faces of edge `e` are flat neighbours
+/// ([`super::narrow::edge_faces`]).
+pub(super) fn certified_patches(
+    filter: Filter,
+    mesh: &Mesh,
+    topo: &Topology,
+    flat: &[bool],
+) -> Vec<u32> {
     let parallel = mesh.num_faces() >= par::MIN_LEN;
-    let flat: Vec<bool> = topo
-        .edges
-        .par_iter()
-        .with_min_len(if parallel { par::MIN_LEN } else { usize::MAX })
-        .map(|e| {
-            let p = |v: VertexId| mesh.pos(v);
-            flat_across(
-                filter,
-                p(e.v[0]),
-                p(e.v[1]),
-                p(e.opposite[0]),
-                p(e.opposite[1]),
-            )
-        })
-        .collect();
     if !flat.contains(&true) {
         return vec![NO_GROUP; mesh.num_faces()];
     }
     let mut sets = UnionFind::<u32>::new(mesh.num_faces());
-    for (e, _) in topo.edges.iter().zip(&flat).filter(|(_, &f)| f) {
+    for (e, _) in topo.edges.iter().zip(flat).filter(|(_, &f)| f) {
         sets.union(e.faces[0].0, e.faces[1].0);
     }
     let root = sets.into_labeling();
@@ -129,7 +121,7 @@ pub(super) fn certified_patches(filter: Filter, mesh: &Mesh, topo: &Topology) ->
         }
     }
     let failed: Vec<AtomicBool> = (0..candidates).map(|_| AtomicBool::new(false)).collect();
-    pinched(&boundary, topo, &failed);
+    pinched(&boundary, mesh, topo, &failed);
     // Test 2, by a tree over the boundary edges as triangles (a, b, b).
     let tris: Vec<[VertexId; 3]> = boundary
         .iter()
@@ -171,10 +163,19 @@ pub(super) fn certified_patches(filter: Filter, mesh: &Mesh, topo: &Topology) ->
 
 /// Marks as failed each candidate with a vertex on more than two of its
 /// boundary edges.
-fn pinched(boundary: &[(u32, u32)], topo: &Topology, failed: &[AtomicBool]) {
+fn pinched(boundary: &[(u32, u32)], mesh: &Mesh, topo: &Topology, failed: &[AtomicBool]) {
+    // Boundary edges per vertex, over all candidates; only vertices on more
+    // than two are looked at per candidate.
+    let mut on = vec![0u8; mesh.num_vertices()];
+    for &(_, k) in boundary {
+        for v in topo.edges[k as usize].v {
+            on[v.idx()] = on[v.idx()].saturating_add(1);
+        }
+    }
     let mut ends: Vec<(u32, u32)> = boundary
         .iter()
         .flat_map(|&(g, k)| topo.edges[k as usize].v.map(|v| (g, v.0)))
+        .filter(|&(_, v)| on[v as usize] > 2)
         .collect();
     ends.sort_unstable();
     for run in ends.chunk_by(|x, y| x == y) {

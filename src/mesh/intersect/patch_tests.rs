@@ -4,6 +4,7 @@
 //! themselves, in coordinate planes and sheared into oblique ones.
 
 use super::bvh::NO_GROUP;
+use super::narrow::edge_faces;
 use super::patch::{certified_patches, MIN_FACES};
 use super::self_intersections;
 use super::tests::all_pairs;
@@ -91,7 +92,15 @@ fn patches(mesh: &Mesh) -> (Vec<u32>, Topology) {
     let (topo, issues) = Topology::build(mesh);
     assert!(issues.is_empty(), "{issues:?}");
     let filter = Filter::for_points(&mesh.positions);
-    (certified_patches(filter, mesh, &topo), topo)
+    let flat: Vec<bool> = topo
+        .edges
+        .iter()
+        .map(|e| {
+            let p = [e.v[0], e.v[1], e.opposite[0], e.opposite[1]].map(|v| mesh.pos(v));
+            edge_faces(filter, p[0], p[1], p[2], p[3]).1
+        })
+        .collect();
+    (certified_patches(filter, mesh, &topo, &flat), topo)
 }
 
 /// Runs right 10, up 6, left 10: a U, apart from itself.
@@ -166,4 +175,72 @@ proptest! {
             }
         }
     }
+}
+
+/// A box over the grid `[0, n]^2`: its bottom flat at `z = 0`, its top at
+/// heights `h(i, j)`, its walls joining the borders.
+fn heightfield_box(n: usize, h: impl Fn(usize, usize) -> f64) -> Mesh {
+    let id = |i: usize, j: usize, top: bool| (2 * ((n + 1) * j + i) + usize::from(top)) as u32;
+    let mut positions = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            positions.push([i as f64, j as f64, 0.0]);
+            positions.push([i as f64, j as f64, h(i, j)]);
+        }
+    }
+    let mut faces = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            let [a, b, c, d] = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)];
+            let t = |p: (usize, usize)| id(p.0, p.1, true);
+            let u = |p: (usize, usize)| id(p.0, p.1, false);
+            faces.push([t(a), t(b), t(c)]);
+            faces.push([t(a), t(c), t(d)]);
+            faces.push([u(a), u(c), u(b)]);
+            faces.push([u(a), u(d), u(c)]);
+        }
+    }
+    // The border, counter-clockwise seen from above.
+    let mut border: Vec<(usize, usize)> = (0..n).map(|i| (i, 0)).collect();
+    border.extend((0..n).map(|j| (n, j)));
+    border.extend((0..n).map(|i| (n - i, n)));
+    border.extend((0..n).map(|j| (0, n - j)));
+    for k in 0..border.len() {
+        let (p, q) = (border[k], border[(k + 1) % border.len()]);
+        let (bp, bq) = (id(p.0, p.1, false), id(q.0, q.1, false));
+        let (tp, tq) = (id(p.0, p.1, true), id(q.0, q.1, true));
+        faces.push([bp, bq, tq]);
+        faces.push([bp, tq, tp]);
+    }
+    Mesh::from_raw(positions, faces)
+}
+
+/// A flat top around two raised vertices on either side of a third, `v`:
+/// the top's flat faces form one patch that reaches `v` in two separate
+/// wedges. Such a patch is not certified (the proof needs a surface), yet
+/// nothing meets; the flat bottom is certified.
+#[test]
+fn a_patch_pinched_at_a_vertex_is_not_certified() {
+    let raised = |i: usize, j: usize| (i == 2 || i == 4) && j == 3;
+    let mesh = heightfield_box(6, |i, j| if raised(i, j) { 1.5 } else { 1.0 });
+    let (of_face, topo) = patches(&mesh);
+    assert!(self_intersections(&mesh, &topo).is_empty());
+    let flat_top = |f: usize| mesh.faces[f].iter().all(|v| mesh.pos(*v)[2] == 1.0);
+    let bottom = |f: usize| mesh.faces[f].iter().all(|v| mesh.pos(*v)[2] == 0.0);
+    assert!((0..mesh.num_faces()).any(flat_top));
+    for (f, &g) in of_face.iter().enumerate() {
+        if flat_top(f) {
+            assert_eq!(g, NO_GROUP, "face {f}");
+        }
+        if bottom(f) {
+            assert_ne!(g, NO_GROUP, "face {f}");
+        }
+    }
+    // Raised at one vertex only: the top is certified.
+    let mesh = heightfield_box(6, |i, j| if i == 2 && j == 3 { 1.5 } else { 1.0 });
+    let (of_face, _) = patches(&mesh);
+    let flat_top = |f: usize| mesh.faces[f].iter().all(|v| mesh.pos(*v)[2] == 1.0);
+    assert!((0..mesh.num_faces())
+        .filter(|&f| flat_top(f))
+        .all(|f| of_face[f] != NO_GROUP));
 }

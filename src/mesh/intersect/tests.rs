@@ -6,10 +6,11 @@
 //! the pair is improper exactly when one of those points lies outside the
 //! hull of the shared vertices.
 
-use super::narrow::{edge_faces_overlap, faces_meet, vertex_faces_overlap, EdgeOverlap, P};
+use super::narrow::{edge_faces, faces_meet, vertex_faces_overlap, EdgeOverlap, P};
 use super::self_intersections;
 use crate::datasets::slab::Slab;
 use crate::exact::orient_filter::Filter;
+use crate::exact::predicates::{is_degenerate_triangle, orient3d, Sign};
 use crate::exact::rational::{rat_from_f64, Rat};
 use crate::ids::{FaceId, VertexId};
 use crate::mesh::topology::Topology;
@@ -300,39 +301,42 @@ fn faces_sharing_a_vertex_overlap_only_beyond_it() {
 #[test]
 fn faces_on_an_edge_fold_or_run_on_along_it() {
     let (a, b) = (O, X);
+    // Flat neighbours (one plane, opposite sides), a fold, a crease.
     assert_eq!(
-        edge_faces_overlap(F, a, b, Y, [0.5, -1.0, 0.0]),
-        EdgeOverlap::Proper
+        edge_faces(F, a, b, Y, [0.5, -1.0, 0.0]),
+        (EdgeOverlap::Proper, true)
     );
     assert_eq!(
-        edge_faces_overlap(F, a, b, Y, [0.5, 1.0, 0.0]),
-        EdgeOverlap::Fold
+        edge_faces(F, a, b, Y, [0.5, 1.0, 0.0]),
+        (EdgeOverlap::Fold, false)
     );
     assert_eq!(
-        edge_faces_overlap(F, a, b, Y, [0.5, 1.0, 1.0]),
-        EdgeOverlap::Proper
+        edge_faces(F, a, b, Y, [0.5, 1.0, 1.0]),
+        (EdgeOverlap::Proper, false)
     );
+    // In the oblique plane z = y: flat neighbours, then a fold.
+    let (c, d) = ([0.0, 1.0, 1.0], [2.0, -1.0, -1.0]);
+    assert_eq!(edge_faces(F, a, b, c, d), (EdgeOverlap::Proper, true));
+    let d = [2.0, 1.0, 1.0];
+    assert_eq!(edge_faces(F, a, b, c, d), (EdgeOverlap::Fold, false));
     // Zero-area faces on the line: running on past the same end, past
     // different ends, one inside the edge.
     let on = |x: f64| [x, 0.0, 0.0];
     assert_eq!(
-        edge_faces_overlap(F, a, b, on(2.0), on(3.0)),
+        edge_faces(F, a, b, on(2.0), on(3.0)).0,
         EdgeOverlap::Collinear
     );
     assert_eq!(
-        edge_faces_overlap(F, a, b, on(-2.0), on(-1.0)),
+        edge_faces(F, a, b, on(-2.0), on(-1.0)).0,
         EdgeOverlap::Collinear
     );
     assert_eq!(
-        edge_faces_overlap(F, a, b, on(2.0), on(-1.0)),
+        edge_faces(F, a, b, on(2.0), on(-1.0)).0,
         EdgeOverlap::Proper
     );
-    assert_eq!(
-        edge_faces_overlap(F, a, b, on(0.5), on(2.0)),
-        EdgeOverlap::Proper
-    );
+    assert_eq!(edge_faces(F, a, b, on(0.5), on(2.0)).0, EdgeOverlap::Proper);
     // One zero-area face past the end, a proper one: only the edge.
-    assert_eq!(edge_faces_overlap(F, a, b, on(2.0), Y), EdgeOverlap::Proper);
+    assert_eq!(edge_faces(F, a, b, on(2.0), Y).0, EdgeOverlap::Proper);
 }
 
 // ---------------------------------------------------------------------------
@@ -403,13 +407,19 @@ proptest! {
     ) {
         let p: Vec<P> = pts.iter().map(|c| c.map(|k| set.set(k))).collect();
         let (a, b, c, d) = (p[0], p[1], p[2], p[3]);
-        let got = edge_faces_overlap(F, a, b, c, d);
+        let got = edge_faces(F, a, b, c, d);
         prop_assert_eq!(
-            got != EdgeOverlap::Proper,
+            got.0 != EdgeOverlap::Proper,
             improper_reference([a, b, c], [b, a, d], &[a, b]),
             "{:?}", p
         );
-        prop_assert_eq!(edge_faces_overlap(F, b, a, d, c), got);
+        // Flat neighbours: proper, both of non-zero area, in one plane.
+        let flat = got.0 == EdgeOverlap::Proper
+            && !is_degenerate_triangle(a, b, c)
+            && !is_degenerate_triangle(b, a, d)
+            && orient3d(a, b, c, d) == Sign::Zero;
+        prop_assert_eq!(got.1, flat, "{:?}", p);
+        prop_assert_eq!(edge_faces(F, b, a, d, c), got);
     }
 
 }
@@ -463,7 +473,7 @@ pub(super) fn all_pairs(mesh: &Mesh) -> Vec<(FaceId, FaceId)> {
                     };
                     let c = s.iter().copied().find(|&v| v != a && v != b).unwrap();
                     let d = t.iter().copied().find(|&v| v != a && v != b).unwrap();
-                    edge_faces_overlap(F, pos(a), pos(b), pos(c), pos(d)) != EdgeOverlap::Proper
+                    edge_faces(F, pos(a), pos(b), pos(c), pos(d)).0 != EdgeOverlap::Proper
                 }
                 _ => unreachable!("duplicate faces"),
             };
