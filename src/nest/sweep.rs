@@ -41,6 +41,17 @@ struct Seg {
     doubles: Option<[f64; 4]>,
 }
 
+/// A segment as the sweep line holds it: small, so that with the tree's
+/// links it fits one cache line (the line holds every segment it crosses,
+/// tens of thousands for deep nesting, and each step down the tree reads
+/// one). `d` are the ends as doubles when every segment has them.
+#[derive(Clone, Copy, Debug)]
+struct OnLine {
+    d: [f64; 4],
+    seg: u32,
+    start: u32,
+}
+
 /// What the segment just left of a loop's lowest point says.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Left {
@@ -133,24 +144,29 @@ pub fn parents<P: Planar, L: AsRef<[P]>>(loops: &[L], orientation: &[Sign]) -> V
     });
     let (low_at, lows) = bucket(events, &lowest, |&(e, _)| e as usize);
 
+    let all_doubles = segs.iter().all(|s| s.doubles.is_some());
+    let on_line = |i: usize| OnLine {
+        d: segs[i].doubles.unwrap_or_default(),
+        seg: i as u32,
+        start: segs[i].start,
+    };
     // Where segment `s`, starting at the current event point, goes
     // relative to segment `t` already crossing the line.
-    let cmp = |s: &Seg, t: &Seg| -> Ordering {
+    let cmp = |s: &OnLine, t: &OnLine| -> Ordering {
         let shared = t.start == s.start;
-        let side = match (s.doubles, t.doubles) {
-            (Some(sd), Some(td)) => {
-                let r = if shared {
-                    [sd[2], sd[3]]
-                } else {
-                    [sd[0], sd[1]]
-                };
-                orient2d_points([td[0], td[1]], [td[2], td[3]], r)
-            }
-            _ => {
-                let (c, d) = (points[t.lower as usize], points[t.upper as usize]);
-                let r = if shared { s.upper } else { s.lower };
-                P::orient(c, d, points[r as usize])
-            }
+        let side = if all_doubles {
+            let (sd, td) = (s.d, t.d);
+            let r = if shared {
+                [sd[2], sd[3]]
+            } else {
+                [sd[0], sd[1]]
+            };
+            orient2d_points([td[0], td[1]], [td[2], td[3]], r)
+        } else {
+            let (s, t) = (&segs[s.seg as usize], &segs[t.seg as usize]);
+            let (c, d) = (points[t.lower as usize], points[t.upper as usize]);
+            let r = if shared { s.upper } else { s.lower };
+            P::orient(c, d, points[r as usize])
         };
         match side {
             Sign::Positive => Ordering::Less,
@@ -160,7 +176,7 @@ pub fn parents<P: Planar, L: AsRef<[P]>>(loops: &[L], orientation: &[Sign]) -> V
         }
     };
 
-    let mut line: Order<Seg> = Order::new();
+    let mut line: Order<OnLine> = Order::new();
     let mut handle: Vec<Handle> = vec![Handle::MAX; segs.len()];
     let mut left = vec![Left::Nothing; loops.len()];
     for e in 0..events {
@@ -169,20 +185,20 @@ pub fn parents<P: Planar, L: AsRef<[P]>>(loops: &[L], orientation: &[Sign]) -> V
         }
         let starting = start_at[e]..start_at[e + 1];
         for i in starting.clone() {
-            let s = &segs[i];
-            handle[i] = line.insert(*s, |t| cmp(s, t));
+            let s = on_line(i);
+            handle[i] = line.insert(s, |t| cmp(&s, t));
         }
         for &(_, l) in &lows[low_at[e]..low_at[e + 1]] {
             let mine = starting.clone().filter(|&i| segs[i].l == l);
             let leftmost = mine.reduce(|a, b| {
-                if cmp(&segs[b], &segs[a]) == Ordering::Less {
+                if cmp(&on_line(b), &on_line(a)) == Ordering::Less {
                     b
                 } else {
                     a
                 }
             });
             let Some(i) = leftmost else { continue };
-            let Some(t) = line.prev(handle[i]).map(|h| line.get(h)) else {
+            let Some(t) = line.prev(handle[i]).map(|h| segs[line.get(h).seg as usize]) else {
                 continue;
             };
             let inside = match orientation[t.l as usize] {
