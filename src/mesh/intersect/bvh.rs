@@ -28,7 +28,7 @@ use crate::ids::{FaceId, VertexId};
 use crate::mesh::Mesh;
 use rayon::prelude::*;
 
-/// The group of a triangle in none.
+/// The group of a triangle in no group.
 pub(super) const NO_GROUP: u32 = u32::MAX;
 
 /// Faces per leaf.

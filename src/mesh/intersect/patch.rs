@@ -136,8 +136,10 @@ pub(super) fn certified_patches(
         if g == h && !failed[g as usize].load(Ordering::Relaxed) {
             let p = |i: usize| tris[i].map(|v| mesh.pos(v));
             let ([x, y, _], [u, w, _]) = (p(s.idx()), p(t.idx()));
-            let ax = axes[g as usize].expect("a patch's faces are proper");
-            if closed_segments_meet_2d(ax, x, y, u, w) {
+            // A candidate's faces are proper (each is on a flat edge), so
+            // its axes are known; were they not, it would not be certified.
+            let meet = axes[g as usize].is_none_or(|ax| closed_segments_meet_2d(ax, x, y, u, w));
+            if meet {
                 failed[g as usize].store(true, Ordering::Relaxed);
             }
         }
