@@ -181,6 +181,73 @@ fn collapsed_loops_in_detail() {
         .all(|l| l.area() == -Rat::one() && l.parent.is_some()));
 }
 
+/// A closed ridge ring with material on both sides (found by the
+/// `adversarial` fuzz target): a 2 x 2 cell slab whose bottom has its
+/// corners and centre at z = -4 and its edge midpoints at -3, each cell
+/// split along the diagonal between two midpoints, so those diagonals form
+/// a diamond ring at exactly -3 (a ridge of the bottom); the top has its
+/// corners and centre at -3 and its midpoints at -2 (a pit at the centre).
+/// Just below -3 the material is the diamond's inside (area 2) and four
+/// corner triangles (area 1/2 each), apart along the ring: five loops,
+/// none collapsed, though every piece of each runs along the ridge. Just
+/// above, one outer loop of area 4 with a collapsed hole at the pit.
+#[test]
+fn a_ridge_ring_with_material_on_both_sides_is_not_collapsed() {
+    let g = |i: usize, j: usize| [i as f64 - 2.0, j as f64 - 1.5];
+    let mut positions = Vec::new();
+    for (lo, hi) in [(-4.0, -3.0), (-3.0, -2.0)] {
+        for j in 0..3 {
+            for i in 0..3 {
+                let [x, y] = g(i, j);
+                positions.push([x, y, if (i + j) % 2 == 0 { lo } else { hi }]);
+            }
+        }
+    }
+    let top = |k: u32| k + 9;
+    let mut faces: Vec<[u32; 3]> = Vec::new();
+    for (j, i) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+        let v = |di: usize, dj: usize| (3 * (j + dj) + i + di) as u32;
+        let (a, b, c, d) = (v(0, 0), v(1, 0), v(1, 1), v(0, 1));
+        // The diagonal between the two midpoints of the cell.
+        let (q, r, s, t) = if (i + j) % 2 == 0 {
+            (b, c, d, a)
+        } else {
+            (a, b, c, d)
+        };
+        faces.extend([
+            [q, s, r],
+            [q, t, s],
+            [top(q), top(r), top(s)],
+            [top(q), top(s), top(t)],
+        ]);
+    }
+    let border = [0u32, 1, 2, 5, 8, 7, 6, 3];
+    for k in 0..8 {
+        let (p, q) = (border[k], border[(k + 1) % 8]);
+        faces.extend([[p, q, top(q)], [p, top(q), top(p)]]);
+    }
+    let mesh = Mesh::from_raw(positions, faces);
+    let ls = Slicer::new(&mesh)
+        .unwrap()
+        .slice_at(&parse_rational("-3").unwrap())
+        .unwrap();
+    let mut below: Vec<Rat> = ls.below.iter().map(Loop::area).collect();
+    below.sort();
+    let half = Rat::new(1.into(), 2.into());
+    let two = Rat::from_integer(2.into());
+    assert_eq!(
+        below,
+        vec![half.clone(), half.clone(), half.clone(), half, two]
+    );
+    assert!(ls
+        .below
+        .iter()
+        .all(|l| !l.collapsed && l.role == Role::Outer));
+    assert_eq!(counts(&ls.above), (1, 1, 1));
+    let pit = ls.above.iter().find(|l| l.role == Role::Hole).unwrap();
+    assert!(pit.collapsed && pit.area().is_zero());
+}
+
 /// The mesh mirrored in z, faces turned so that they stay outward.
 fn mirrored(mesh: &Mesh) -> Mesh {
     let mut m = mesh.clone();

@@ -12,21 +12,26 @@
 //!
 //! Output points are the limits: a crossing on an edge with an end on the
 //! plane sits at that end, and consecutive crossings at one vertex become
-//! one point. A loop is collapsed when its limit encloses no material on
-//! one side: every piece of it runs along a ridge or valley edge (S_NO) or
-//! shrinks to a point, so the region it bounds with its neighbours has
-//! zero area in the limit (around an extremum, along a ridge and back, on
-//! both sides of a closed ridge ring).
+//! one point. A loop is collapsed when a region it bounds (the loop minus
+//! its children, or its parent minus the parent's children) has zero limit
+//! area, exactly (around an extremum, along a ridge and back, on both sides
+//! of a closed ridge ring with material on one side only). Such a loop runs
+//! along ridge or valley edges (S_NO) throughout, which is checked first;
+//! the areas decide, since a ridge ring with material on both sides has
+//! loops along it that bound whole discs.
 
 use super::{LevelBuilder, Loop, SliceError};
 use crate::chain::chain_loops;
 use crate::classify::Side;
+use crate::exact::area::signed_area;
 use crate::exact::perturbed::{orientation, EpsPoint, Motion, Towards};
 use crate::exact::point::LoopPoint;
+use crate::exact::Rat;
 use crate::exact::Sign;
 use crate::ids::{EdgeId, VertexId};
 use crate::nest::{nest, Family};
 use crate::segment::{face_segment, Carrier, CutPoint, Segment, Via};
+use num_traits::Zero;
 
 /// One loop of a limit before nesting: the crossed edges with their
 /// carriers, rotated to start a run of equal limit cuts, and the limit.
@@ -93,18 +98,24 @@ impl LevelBuilder<'_> {
             representative: &vec![Some(0); moving.len()],
         });
         drop(moving);
+        // Only a loop that runs along S_NO edges throughout can bound a
+        // region of zero limit area; where there is one, the exact areas
+        // decide (see `collapse_by_regions`).
+        let may_collapse = chained.iter().any(|c| self.runs_along_s_no(c, &segments));
         let mut loops = Vec::with_capacity(chained.len());
         for ((c, sign), n) in chained.into_iter().zip(signs).zip(nesting) {
-            let collapsed = self.is_collapsed(&c, &segments);
             loops.push(Loop {
                 cuts: c.cuts,
                 points: c.points,
                 orientation: sign,
                 role: n.role,
                 parent: n.parent,
-                collapsed,
+                collapsed: false,
                 crossings: c.crossings.into_iter().map(|(e, _)| e).collect(),
             });
+        }
+        if may_collapse {
+            collapse_by_regions(&mut loops);
         }
         Ok(loops)
     }
@@ -159,8 +170,13 @@ impl LevelBuilder<'_> {
 
     /// Whether every piece of the limit between two runs lies on an S_NO
     /// edge: the piece's face has two vertices on the plane, and the face
-    /// across their edge has its third vertex on the same side.
-    fn is_collapsed(&self, c: &Chained, segments: &[Segment]) -> bool {
+    /// across their edge has its third vertex on the same side. Necessary
+    /// for bounding a region of zero limit area (a piece inside a face, or
+    /// on an edge with the faces on both sides, has material of non-zero
+    /// width beside it), not sufficient: the loop inside a closed ridge
+    /// ring with material below on both sides runs along the ring, yet
+    /// bounds the whole disc inside it.
+    fn runs_along_s_no(&self, c: &Chained, segments: &[Segment]) -> bool {
         let n = c.crossings.len();
         (0..n)
             .filter(|&k| c.run_of[k] != c.run_of[(k + 1) % n])
@@ -198,5 +214,21 @@ impl LevelBuilder<'_> {
         };
         let side = self.signs.of(w);
         side != Sign::Zero && self.signs.of(other) == side
+    }
+}
+
+/// Sets the collapsed flags by SPEC 6's rule: a loop is collapsed exactly
+/// when a region it bounds (the loop minus its children, or its parent
+/// minus the parent's children) has zero limit area, exactly.
+fn collapse_by_regions(loops: &mut [Loop]) {
+    let areas: Vec<Rat> = loops.iter().map(|l| signed_area(&l.points)).collect();
+    let mut region = areas.clone();
+    for (l, a) in loops.iter().zip(&areas) {
+        if let Some(p) = l.parent {
+            region[p] += a;
+        }
+    }
+    for (i, l) in loops.iter_mut().enumerate() {
+        l.collapsed = region[i].is_zero() || l.parent.is_some_and(|p| region[p].is_zero());
     }
 }
