@@ -248,6 +248,16 @@ fn options(exact: bool, output: &str) -> Options {
     }
 }
 
+/// The result part of a certificate for a written file.
+fn file_result(sha256: String, bytes: usize, verified_document_sha256: String) -> ResultPart {
+    ResultPart {
+        destination: "file",
+        sha256,
+        bytes,
+        verified_document_sha256,
+    }
+}
+
 /// Writes a part's certificate (atomically) and returns its path as shown.
 #[allow(clippy::too_many_arguments)]
 fn write_certificate(
@@ -435,12 +445,7 @@ fn run_part(
         .into_verification()
         .map_err(PartError::Certificate)?;
     if let Some(cp) = certificate {
-        let result = ResultPart {
-            destination: "file",
-            sha256: sha,
-            bytes,
-            verified_document_sha256: verified_sha,
-        };
+        let result = file_result(sha, bytes, verified_sha);
         done.certificate = Some(write_certificate(
             cp,
             &part,
@@ -693,12 +698,7 @@ pub fn join_shards<'py>(
                     serde_json::from_str(p).map_err(|e| PartError::Mismatch(e.to_string()))?;
                 parts.extend(more);
             }
-            let result = ResultPart {
-                destination: "file",
-                sha256: sha,
-                bytes,
-                verified_document_sha256: verified_sha,
-            };
+            let result = file_result(sha, bytes, verified_sha);
             let verification = verdict
                 .into_verification()
                 .map_err(PartError::Certificate)?;
