@@ -18,6 +18,7 @@ pub use ids::{EdgeId, FaceId, VertexId};
 pub use mesh::Mesh;
 pub mod chain;
 pub mod classify;
+pub mod critical;
 pub mod exact;
 pub mod layers;
 pub mod levelset;
