@@ -211,8 +211,7 @@ impl<'a> Sweep<'a> {
             let mut got = std::mem::take(&mut self.scratch);
             got.clear();
             self.seq.collect(root, &mut got);
-            let ok = got.len() == k
-                && (0..k).all(|i| got[(pos as usize + i) % k] == fan[i].edge.0);
+            let ok = got.len() == k && (0..k).all(|i| got[(pos as usize + i) % k] == fan[i].edge.0);
             self.scratch = got;
             if !ok {
                 return Err(self.internal(format!("the contour closing at {v} is not its star")));
@@ -484,8 +483,14 @@ impl Sweep<'_> {
         ctx.inplane.clear();
         let mut signs = std::mem::take(&mut self.signs);
         for &v in group {
-            let at = classify_vertex(self.mesh, self.topo, VertexId(v), &mut signs, &mut ctx.inplane)
-                .map_err(|f| self.internal(format!("in-plane face {} has zero area", f.0)))?;
+            let at = classify_vertex(
+                self.mesh,
+                self.topo,
+                VertexId(v),
+                &mut signs,
+                &mut ctx.inplane,
+            )
+            .map_err(|f| self.internal(format!("in-plane face {} has zero area", f.0)))?;
             ctx.at.push(at);
         }
         self.signs = signs;
@@ -498,10 +503,8 @@ impl Sweep<'_> {
             let v = VertexId(v);
             let fan = self.topo.fan(v);
             ctx.flags.clear();
-            ctx.flags.extend(
-                fan.iter()
-                    .map(|e| self.mesh.pos(e.neighbour)[2] < self.z),
-            );
+            ctx.flags
+                .extend(fan.iter().map(|e| self.mesh.pos(e.neighbour)[2] < self.z));
             Self::runs_of(&ctx.flags, &mut ctx.runs);
             for run in &ctx.runs {
                 let e = fan[run.start].edge;
@@ -536,10 +539,8 @@ impl Sweep<'_> {
             let v = VertexId(v);
             let fan = self.topo.fan(v);
             ctx.flags.clear();
-            ctx.flags.extend(
-                fan.iter()
-                    .map(|e| self.mesh.pos(e.neighbour)[2] > self.z),
-            );
+            ctx.flags
+                .extend(fan.iter().map(|e| self.mesh.pos(e.neighbour)[2] > self.z));
             Self::runs_of(&ctx.flags, &mut ctx.runs);
             for run in &ctx.runs {
                 let e = fan[run.start].edge;
@@ -588,7 +589,10 @@ impl Sweep<'_> {
         // Regular components keep their arc.
         let mut node_comps: Vec<usize> = Vec::new();
         for (ci, comp) in comps.iter().enumerate() {
-            let is_node = comp.vertices.iter().any(|&i| ctx.at[i as usize].is_critical());
+            let is_node = comp
+                .vertices
+                .iter()
+                .any(|&i| ctx.at[i as usize].is_critical());
             if is_node {
                 node_comps.push(ci);
                 continue;
@@ -641,7 +645,8 @@ impl Sweep<'_> {
             }
         }
         let mut tallies = vec![Tally::default(); order.len()];
-        let local = |v: VertexId| self.rank[v.idx()] as usize - self.rank[group[0] as usize] as usize;
+        let local =
+            |v: VertexId| self.rank[v.idx()] as usize - self.rank[group[0] as usize] as usize;
         // Vertices: P, saddles, and chi.
         for (i, at) in ctx.at.iter().enumerate() {
             let t = node_of_vertex[i];
