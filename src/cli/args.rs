@@ -25,6 +25,54 @@ pub enum Command {
     Slice(SliceArgs),
     /// Re-check a result file exactly against its mesh.
     Verify(VerifyArgs),
+    /// The critical heights, the Reeb graph, and layer plans that honour the flats.
+    Critical(CriticalArgs),
+}
+
+/// Output format of `critical`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum CriticalFormat {
+    /// The readable report (default).
+    Text,
+    /// The `wmslice-critical` JSON document.
+    Json,
+    /// A picture of the Reeb graph.
+    Svg,
+}
+
+/// `wmslice critical`.
+#[derive(Args, Debug)]
+pub struct CriticalArgs {
+    /// A mesh file (STL, OBJ, OFF, PLY, 3MF) or a built-in dataset name.
+    pub mesh: String,
+    /// Snap coordinates to the grid Q (decimal or p/q) first.
+    #[arg(long, value_name = "Q")]
+    pub snap: Option<String>,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = CriticalFormat::Text)]
+    pub format: CriticalFormat,
+    /// Output file (default: stdout).
+    #[arg(short, long, value_name = "PATH")]
+    pub output: Option<PathBuf>,
+    /// Layer height H: audit the uniform plan (which layer prints each
+    /// flat, how far off), or with --fit-critical, fit a plan to the flats.
+    #[arg(long, value_name = "H")]
+    pub layer_height: Option<String>,
+    /// Fit layers between H/2 and 3H/2 thick with every flat on a boundary.
+    #[arg(long, requires = "layer_height")]
+    pub fit_critical: bool,
+    /// First plane of the audited uniform plan (default: lowest vertex + H/2).
+    #[arg(
+        long,
+        value_name = "Z0",
+        allow_hyphen_values = true,
+        requires = "layer_height",
+        conflicts_with = "fit_critical"
+    )]
+    pub first: Option<String>,
+    /// Worker threads for validation (default: all cores).
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
 }
 
 /// `wmslice demo`.
@@ -133,6 +181,10 @@ pub struct SliceArgs {
         requires = "layer_height"
     )]
     pub last: Option<String>,
+    /// Instead of uniform planes, fit layers between H/2 and 3H/2 thick
+    /// with every flat on a layer boundary, and slice each at its middle.
+    #[arg(long, requires = "layer_height", conflicts_with_all = ["first", "last", "naive"])]
+    pub fit_critical: bool,
     /// Worker threads (default: all cores); the output is identical for every N.
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,

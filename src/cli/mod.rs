@@ -9,6 +9,7 @@
 mod args;
 mod certificate;
 mod check;
+mod critical;
 mod demo;
 mod gen;
 mod input;
@@ -101,6 +102,7 @@ fn dispatch(cli: Cli) -> Result<(), Failure> {
         Command::Check(a) => check::run(a),
         Command::Slice(a) => slice::run(a),
         Command::Verify(a) => verify::run(a),
+        Command::Critical(a) => critical::run(a),
     }
 }
 

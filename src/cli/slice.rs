@@ -7,6 +7,10 @@ use super::{emit, slice_error, usage, ExitCode, Failure, Tag};
 use anyhow::anyhow;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::{IsTerminal, Write};
+use wmslice::critical::{
+    self,
+    fit::{fit_layers, mid_planes},
+};
 use wmslice::exact::crossing::{path_counts, NumberPath};
 use wmslice::exact::parse_rational;
 use wmslice::exact::rational::{rat_to_f64, rat_to_string, Rat};
@@ -177,32 +181,48 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
         .clone()
         .unwrap_or_else(|| Rat::from_integer(1.into()));
     let (lo, hi) = height_range(&input.mesh, &unit);
-    let levels =
-        plan_levels(uniform.as_ref(), &explicit, (&lo, &hi)).map_err(|e| usage(e.to_string()))?;
+    // A fitted plan needs the critical heights, so the slicer, first.
+    let planned = if a.fit_critical {
+        None
+    } else {
+        Some(
+            plan_levels(uniform.as_ref(), &explicit, (&lo, &hi))
+                .map_err(|e| usage(e.to_string()))?,
+        )
+    };
     if a.naive {
         if a.certificate.is_some() {
             return Err(usage(
                 "--certificate does not certify the --naive slicer".into(),
             ));
         }
-        return slice_naive(&a, &input, &levels);
+        return slice_naive(&a, &input, planned.as_deref().unwrap_or(&[]));
     }
     let validating = step("validating the mesh and building its topology", a.quiet);
     // The header's fingerprint is hashed, and the faces filed under the
     // levels, beside validation.
-    let (slicer, (header, plan)) = pool.install(|| {
-        rayon::join(
-            || Slicer::with_unit(&input.mesh, unit.clone()),
-            || {
+    let levels: Vec<Rat>;
+    let (slicer, (header, plan)) = match planned {
+        Some(planned) => {
+            levels = planned;
+            let (slicer, rest) = pool.install(|| {
                 rayon::join(
-                    || MeshHeader::new(&input.mesh, input.unit.as_ref()),
-                    || SweepPlan::new(&input.mesh, &unit, &levels),
+                    || Slicer::with_unit(&input.mesh, unit.clone()),
+                    || header_and_plan(&input, &unit, &levels),
                 )
-            },
-        )
-    });
+            });
+            (slicer.map_err(slice_error)?, rest)
+        }
+        None => {
+            let slicer = pool
+                .install(|| Slicer::with_unit(&input.mesh, unit.clone()))
+                .map_err(slice_error)?;
+            levels = fitted_levels(&slicer, uniform.as_ref(), &explicit, (&lo, &hi))?;
+            let rest = pool.install(|| header_and_plan(&input, &unit, &levels));
+            (slicer, rest)
+        }
+    };
     validating.finish_and_clear();
-    let slicer = slicer.map_err(slice_error)?;
     let bar = progress(levels.len(), a.quiet);
     let ex = if a.exact {
         Exactness::WithExact
@@ -270,6 +290,40 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
         Some(path) => super::certificate::write(path, &a, &input, &levels, &sets, text.as_bytes()),
         None => Ok(()),
     }
+}
+
+/// The JSON header's fingerprint and the faces filed under the levels.
+fn header_and_plan<'a>(
+    input: &'a Input,
+    unit: &Rat,
+    levels: &'a [Rat],
+) -> (MeshHeader, SweepPlan<'a>) {
+    rayon::join(
+        || MeshHeader::new(&input.mesh, input.unit.as_ref()),
+        || SweepPlan::new(&input.mesh, unit, levels),
+    )
+}
+
+/// With `--fit-critical`: the middle of every fitted layer (each layer
+/// between H/2 and 3H/2 thick, every flat on a boundary), with the
+/// explicit levels.
+fn fitted_levels(
+    slicer: &Slicer<'_>,
+    uniform: Option<&LayerPlan>,
+    explicit: &[Rat],
+    z_range: (&Rat, &Rat),
+) -> Result<Vec<Rat>, Failure> {
+    let height = uniform
+        .map(|p| p.height.clone())
+        .ok_or_else(|| usage("--fit-critical needs --layer-height".into()))?;
+    let report = critical::analyze(slicer).map_err(|e| Failure {
+        code: ExitCode::Internal,
+        error: e.into(),
+    })?;
+    let layers = fit_layers(&report, &height).map_err(|e| usage(e.to_string()))?;
+    let mut levels = explicit.to_vec();
+    levels.extend(mid_planes(&layers));
+    plan_levels(None, &levels, z_range).map_err(|e| usage(e.to_string()))
 }
 
 /// With `--verbose`: how many loop points took each number path.

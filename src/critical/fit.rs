@@ -161,6 +161,13 @@ pub fn fit_layers(report: &CriticalReport, h: &Rat) -> Result<Vec<Layer>, FitErr
     Ok(layers)
 }
 
+/// The middle of each layer, where a slicer cuts it (as the uniform plan
+/// of `wmslice slice --layer-height` cuts at mid-layer). Exact.
+pub fn mid_planes(layers: &[Layer]) -> Vec<Rat> {
+    let two = Rat::from_integer(2.into());
+    layers.iter().map(|l| (&l[0] + &l[1]) / &two).collect()
+}
+
 /// A run of critical heights, each closer than `H` to the next: indices
 /// into [`CriticalReport::levels`], ascending, at least two.
 pub fn clusters(report: &CriticalReport, h: &Rat) -> Result<Vec<Vec<usize>>, FitError> {

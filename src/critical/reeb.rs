@@ -7,6 +7,7 @@ use crate::exact::rational::Rat;
 use crate::ids::VertexId;
 use crate::mesh::topology::Topology;
 use crate::mesh::Mesh;
+use petgraph::unionfind::UnionFind;
 
 /// What a node of the Reeb graph holds (see [`super`] for the rules).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
@@ -97,23 +98,9 @@ pub struct ReebGraph {
 impl ReebGraph {
     /// Connected components of the graph.
     pub fn components(&self) -> usize {
-        let mut parent: Vec<usize> = (0..self.nodes.len()).collect();
-        fn find(p: &mut [usize], mut x: usize) -> usize {
-            while p[x] != x {
-                p[x] = p[p[x]];
-                x = p[x];
-            }
-            x
-        }
-        let mut count = self.nodes.len();
-        for &[a, b] in &self.arcs {
-            let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
-            if ra != rb {
-                parent[ra] = rb;
-                count -= 1;
-            }
-        }
-        count
+        let mut sets = UnionFind::<usize>::new(self.nodes.len());
+        let joined = self.arcs.iter().filter(|&&[a, b]| sets.union(a, b)).count();
+        self.nodes.len() - joined
     }
 
     /// Independent cycles (first Betti number): `arcs - nodes + components`.
@@ -136,46 +123,31 @@ impl ReebGraph {
 /// orientable surface, from `V - E + F` per component (used vertices only).
 pub(super) fn surface_genus(mesh: &Mesh, topo: &Topology) -> (u64, usize) {
     let n = mesh.num_vertices();
-    let mut parent: Vec<u32> = (0..n as u32).collect();
-    fn find(p: &mut [u32], mut x: u32) -> u32 {
-        while p[x as usize] != x {
-            p[x as usize] = p[p[x as usize] as usize];
-            x = p[x as usize];
-        }
-        x
-    }
+    let mut sets = UnionFind::<u32>::new(n);
     for e in &topo.edges {
-        let (a, b) = (find(&mut parent, e.v[0].0), find(&mut parent, e.v[1].0));
-        if a != b {
-            parent[a as usize] = b;
-        }
+        sets.union(e.v[0].0, e.v[1].0);
     }
-    // chi per component: +1 per used vertex, -1 per edge, +1 per face.
+    // chi per component (indexed by its root): +1 per used vertex, -1 per
+    // edge, +1 per face.
     let mut chi: Vec<i64> = vec![0; n];
-    let mut used = vec![false; n];
-    for v in 0..n {
-        if !topo.fan(VertexId::from_idx(v)).is_empty() {
-            used[v] = true;
-            let r = find(&mut parent, v as u32) as usize;
-            chi[r] += 1;
+    let mut roots = Vec::new();
+    for v in (0..n as u32).filter(|&v| !topo.fan(VertexId(v)).is_empty()) {
+        let r = sets.find_mut(v);
+        if r == v {
+            roots.push(r);
         }
+        chi[r as usize] += 1;
     }
     for e in &topo.edges {
-        let r = find(&mut parent, e.v[0].0) as usize;
-        chi[r] -= 1;
+        chi[sets.find_mut(e.v[0].0) as usize] -= 1;
     }
     for f in &mesh.faces {
-        let r = find(&mut parent, f[0].0) as usize;
-        chi[r] += 1;
+        chi[sets.find_mut(f[0].0) as usize] += 1;
     }
-    let mut genus = 0u64;
-    let mut components = 0usize;
-    for v in 0..n {
-        if used[v] && find(&mut parent, v as u32) as usize == v {
-            components += 1;
-            // A closed orientable surface has chi = 2 - 2g <= 2.
-            genus += u64::try_from((2 - chi[v]) / 2).unwrap_or(0);
-        }
-    }
-    (genus, components)
+    // A closed orientable surface has chi = 2 - 2g <= 2.
+    let genus = roots
+        .iter()
+        .map(|&r| u64::try_from((2 - chi[r as usize]) / 2).unwrap_or(0))
+        .sum();
+    (genus, roots.len())
 }

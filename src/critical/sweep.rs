@@ -52,7 +52,8 @@ use crate::mesh::topology::Topology;
 use crate::mesh::Mesh;
 use rustc_hash::FxHashMap as HashMap;
 
-/// A plain union-find over `0..n`, grown on demand.
+/// A union-find over `0..n` that grows on demand and is reset, not
+/// reallocated, at each height (petgraph's `UnionFind` has a fixed size).
 #[derive(Default)]
 struct Dsu {
     parent: Vec<u32>,

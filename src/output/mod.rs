@@ -6,7 +6,9 @@
 pub mod atomic;
 pub mod certificate;
 pub mod cli_layers;
+pub mod critical;
 pub mod html;
 pub mod json;
+pub mod reeb_svg;
 pub mod summary;
 pub mod svg;

@@ -1,0 +1,92 @@
+//! `wmslice critical`: the critical heights of a mesh, its Reeb graph, and
+//! (with `--layer-height`) a layer plan that honours the flats or an audit
+//! of the uniform plan; text, JSON or SVG.
+
+use super::args::{CriticalArgs, CriticalFormat};
+use super::input::load_input;
+use super::{emit, slice_error, usage, ExitCode, Failure};
+use anyhow::anyhow;
+use wmslice::critical::fit::{audit_uniform, clusters, fit_layers};
+use wmslice::critical::{self, CriticalReport};
+use wmslice::exact::parse_rational;
+use wmslice::exact::rational::Rat;
+use wmslice::layers::height_range;
+use wmslice::output::critical::{critical_json, critical_text, PlanReport};
+use wmslice::output::json::MeshHeader;
+use wmslice::output::reeb_svg::reeb_svg;
+use wmslice::Slicer;
+
+fn parse(flag: &str, v: Option<&str>) -> Result<Option<Rat>, Failure> {
+    v.map(|t| parse_rational(t).map_err(|e| usage(format!("{flag} {t}: {e}"))))
+        .transpose()
+}
+
+/// The plan the arguments ask for, if any.
+fn plan(
+    a: &CriticalArgs,
+    report: &CriticalReport,
+    z_min: &Rat,
+) -> Result<Option<PlanReport>, Failure> {
+    let Some(height) = parse("--layer-height", a.layer_height.as_deref())? else {
+        return Ok(None);
+    };
+    let bad = |e: critical::fit::FitError| usage(e.to_string());
+    let found = clusters(report, &height).map_err(bad)?;
+    Ok(Some(if a.fit_critical {
+        PlanReport::Fitted {
+            layers: fit_layers(report, &height).map_err(bad)?,
+            height,
+            clusters: found,
+        }
+    } else {
+        let two = Rat::from_integer(2.into());
+        let first = parse("--first", a.first.as_deref())?.unwrap_or_else(|| z_min + &height / two);
+        PlanReport::Uniform {
+            audit: audit_uniform(report, &height, &first).map_err(bad)?,
+            height,
+            first,
+            clusters: found,
+        }
+    }))
+}
+
+/// Runs `critical`.
+pub fn run(a: CriticalArgs) -> Result<(), Failure> {
+    let threads = a
+        .threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| Failure {
+            code: ExitCode::Internal,
+            error: anyhow!("cannot start worker threads: {e}"),
+        })?;
+    let input = pool.install(|| load_input(&a.mesh, a.snap.as_deref()))?;
+    for n in &input.notes {
+        eprintln!("note: {n}");
+    }
+    let unit = input
+        .unit
+        .clone()
+        .unwrap_or_else(|| Rat::from_integer(1.into()));
+    let (slicer, header) = pool.install(|| {
+        rayon::join(
+            || Slicer::with_unit(&input.mesh, unit.clone()),
+            || MeshHeader::new(&input.mesh, input.unit.as_ref()),
+        )
+    });
+    let slicer = slicer.map_err(slice_error)?;
+    let report = critical::analyze(&slicer).map_err(|e| Failure {
+        code: ExitCode::Internal,
+        error: e.into(),
+    })?;
+    let (z_min, _) = height_range(&input.mesh, &unit);
+    let plan = plan(&a, &report, &z_min)?;
+    let text = match a.format {
+        CriticalFormat::Text => critical_text(&report, plan.as_ref()),
+        CriticalFormat::Json => critical_json(&header, &report, plan.as_ref()),
+        CriticalFormat::Svg => reeb_svg(&report.reeb, &format!("Reeb graph of {}", a.mesh)),
+    };
+    emit(a.output.as_deref(), &text)
+}

@@ -1,0 +1,320 @@
+//! Input: a [`CriticalReport`] and, optionally, a layer plan. Output: the
+//! `wmslice-critical` JSON document and the readable text of `wmslice
+//! critical`.
+//!
+//! Heights are exact `"p/q"` strings in the mesh's units; the text also
+//! shows each height rounded to the nearest `f64` (marked `~`), for
+//! reading only.
+
+use super::json::MeshHeader;
+use crate::classify::Facing;
+use crate::critical::fit::{FlatAudit, Layer};
+use crate::critical::{CriticalLevel, CriticalReport, ReebNode};
+use crate::exact::rational::{rat_to_f64, rat_to_string, Rat};
+use serde_json::{json, Value};
+use std::fmt::Write;
+
+/// A layer plan to report beside the critical values.
+#[derive(Clone, Debug)]
+pub enum PlanReport {
+    /// `--fit-critical`: the fitted layers.
+    Fitted {
+        /// The target layer height `H`.
+        height: Rat,
+        /// The layers, bottom to top.
+        layers: Vec<Layer>,
+        /// Runs of critical heights closer than `H` (indices into the
+        /// report's levels).
+        clusters: Vec<Vec<usize>>,
+    },
+    /// Without `--fit-critical`: what the uniform plan does to each flat.
+    Uniform {
+        /// The layer height `H`.
+        height: Rat,
+        /// The first plane `Z0`.
+        first: Rat,
+        /// One entry per flat and facing.
+        audit: Vec<FlatAudit>,
+        /// As for [`PlanReport::Fitted`].
+        clusters: Vec<Vec<usize>>,
+    },
+}
+
+impl PlanReport {
+    fn clusters(&self) -> &[Vec<usize>] {
+        match self {
+            PlanReport::Fitted { clusters, .. } | PlanReport::Uniform { clusters, .. } => clusters,
+        }
+    }
+}
+
+fn s(r: &Rat) -> String {
+    rat_to_string(r)
+}
+
+fn level_json(l: &CriticalLevel) -> Value {
+    json!({
+        "z": s(&l.z),
+        "faces_up": l.faces_up,
+        "faces_down": l.faces_down,
+        "ridges": l.ridges,
+        "valleys": l.valleys,
+        "minima": l.minima,
+        "maxima": l.maxima,
+        "saddles": l.saddles,
+        "below": l.below,
+        "above": l.above,
+    })
+}
+
+fn node_json(n: &ReebNode) -> Value {
+    json!({
+        "z": s(&n.z),
+        "kind": n.kind.name(),
+        "vertex": n.vertex.0,
+        "faces_up": n.faces_up,
+        "faces_down": n.faces_down,
+        "ridges": n.ridges,
+        "valleys": n.valleys,
+        "minima": n.minima,
+        "maxima": n.maxima,
+        "saddles": n.saddles,
+        "below": n.below,
+        "above": n.above,
+        "genus": n.genus,
+        "bbox": [[s(&n.bbox[0][0]), s(&n.bbox[0][1])], [s(&n.bbox[1][0]), s(&n.bbox[1][1])]],
+    })
+}
+
+fn facing_name(f: Facing) -> &'static str {
+    match f {
+        Facing::Up => "up",
+        Facing::Down => "down",
+        Facing::Flat => "flat",
+    }
+}
+
+/// A cluster: its heights and the nodes at them (what is involved).
+fn cluster_json(report: &CriticalReport, c: &[usize]) -> Value {
+    let nodes: Vec<usize> = (0..report.reeb.nodes.len())
+        .filter(|&i| c.contains(&report.reeb.nodes[i].level))
+        .collect();
+    json!({
+        "heights": c.iter().map(|&i| s(&report.levels[i].z)).collect::<Vec<_>>(),
+        "nodes": nodes,
+    })
+}
+
+/// The `wmslice-critical` JSON document (one line, newline-terminated).
+pub fn critical_json(
+    header: &MeshHeader,
+    report: &CriticalReport,
+    plan: Option<&PlanReport>,
+) -> String {
+    let mut doc = json!({
+        "format": "wmslice-critical",
+        "version": 1,
+        "mesh": header,
+        "genus": report.genus,
+        "components": report.components,
+        "critical": report.levels.iter().map(level_json).collect::<Vec<_>>(),
+        "reeb": {
+            "nodes": report.reeb.nodes.iter().map(node_json).collect::<Vec<_>>(),
+            "arcs": report.reeb.arcs,
+        },
+    });
+    if let (Some(plan), Some(obj)) = (plan, doc.as_object_mut()) {
+        let clusters: Vec<Value> = plan
+            .clusters()
+            .iter()
+            .map(|c| cluster_json(report, c))
+            .collect();
+        match plan {
+            PlanReport::Fitted { height, layers, .. } => {
+                obj.insert("layer_height".into(), s(height).into());
+                obj.insert(
+                    "layers".into(),
+                    layers.iter().map(|l| json!([s(&l[0]), s(&l[1])])).collect(),
+                );
+            }
+            PlanReport::Uniform {
+                height,
+                first,
+                audit,
+                ..
+            } => {
+                obj.insert("layer_height".into(), s(height).into());
+                obj.insert("first".into(), s(first).into());
+                obj.insert(
+                    "audit".into(),
+                    audit
+                        .iter()
+                        .map(|a| {
+                            json!({
+                                "z": s(&report.levels[a.level].z),
+                                "facing": facing_name(a.facing),
+                                "regions": a.regions,
+                                "layer": a.layer,
+                                "bounds": [s(&a.bounds[0]), s(&a.bounds[1])],
+                                "printed_at": s(&a.printed_at),
+                                "offset": s(&a.offset),
+                            })
+                        })
+                        .collect(),
+                );
+            }
+        }
+        obj.insert("clusters".into(), clusters.into());
+    }
+    let mut text = doc.to_string();
+    text.push('\n');
+    text
+}
+
+fn approx(r: &Rat) -> String {
+    format!("~{}", rat_to_f64(r))
+}
+
+/// What a level holds, in words (`"1 up flat, 2 saddles (m = 2, 3)"`).
+fn holds(l: &CriticalLevel) -> String {
+    let mut parts = Vec::new();
+    let mut count = |n: usize, one: &str, many: &str| {
+        if n > 0 {
+            parts.push(format!("{n} {}", if n == 1 { one } else { many }));
+        }
+    };
+    count(l.faces_up, "up flat", "up flats");
+    count(l.faces_down, "down flat", "down flats");
+    count(l.ridges, "ridge", "ridges");
+    count(l.valleys, "valley", "valleys");
+    count(l.minima, "minimum", "minima");
+    count(l.maxima, "maximum", "maxima");
+    if !l.saddles.is_empty() {
+        let ms: Vec<String> = l.saddles.iter().map(u32::to_string).collect();
+        parts.push(format!(
+            "{} saddle{} (m = {})",
+            l.saddles.len(),
+            if l.saddles.len() == 1 { "" } else { "s" },
+            ms.join(", ")
+        ));
+    }
+    parts.join(", ")
+}
+
+/// The readable report of `wmslice critical`.
+pub fn critical_text(report: &CriticalReport, plan: Option<&PlanReport>) -> String {
+    let mut t = String::new();
+    let r = &report.reeb;
+    let _ = writeln!(
+        t,
+        "{} critical heights; genus {}, {} component{}",
+        report.levels.len(),
+        report.genus,
+        report.components,
+        if report.components == 1 { "" } else { "s" }
+    );
+    for l in &report.levels {
+        let _ = writeln!(
+            t,
+            "  z = {} ({}): {}; loops {} below, {} above",
+            s(&l.z),
+            approx(&l.z),
+            holds(l),
+            l.below,
+            l.above
+        );
+    }
+    let _ = writeln!(
+        t,
+        "Reeb graph: {} nodes, {} arcs, {} cycles",
+        r.nodes.len(),
+        r.arcs.len(),
+        r.cycles()
+    );
+    for (i, n) in r.nodes.iter().enumerate() {
+        let up: Vec<String> = r
+            .arcs
+            .iter()
+            .filter(|a| a[0] == i)
+            .map(|a| a[1].to_string())
+            .collect();
+        let genus = if n.genus > 0 {
+            format!(", genus {}", n.genus)
+        } else {
+            String::new()
+        };
+        let _ = writeln!(
+            t,
+            "  node {i}: {} at z = {} (vertex {}{genus}){}",
+            n.kind.name(),
+            s(&n.z),
+            n.vertex.0,
+            if up.is_empty() {
+                String::new()
+            } else {
+                format!(" -> {}", up.join(", "))
+            }
+        );
+    }
+    match plan {
+        None => {}
+        Some(PlanReport::Fitted { height, layers, .. }) => {
+            let _ = writeln!(
+                t,
+                "fitted plan: {} layers for layer height {} (each between H/2 and 3H/2, every flat on a boundary)",
+                layers.len(),
+                s(height)
+            );
+            for l in layers {
+                let _ = writeln!(
+                    t,
+                    "  [{}, {}]  thickness {}",
+                    s(&l[0]),
+                    s(&l[1]),
+                    approx(&(&l[1] - &l[0]))
+                );
+            }
+        }
+        Some(PlanReport::Uniform {
+            height,
+            first,
+            audit,
+            ..
+        }) => {
+            let _ = writeln!(
+                t,
+                "uniform plan: planes {} + k * {}, each printing [p - H/2, p + H/2]",
+                s(first),
+                s(height)
+            );
+            for a in audit {
+                let z = &report.levels[a.level].z;
+                let _ = writeln!(
+                    t,
+                    "  {} flat at z = {}: printed by layer {} [{}, {}] at {} (off by {}, {})",
+                    facing_name(a.facing),
+                    s(z),
+                    a.layer,
+                    s(&a.bounds[0]),
+                    s(&a.bounds[1]),
+                    s(&a.printed_at),
+                    s(&a.offset),
+                    approx(&a.offset)
+                );
+            }
+        }
+    }
+    if let Some(plan) = plan {
+        for c in plan.clusters() {
+            let zs: Vec<String> = c.iter().map(|&i| s(&report.levels[i].z)).collect();
+            let what: Vec<String> = c.iter().map(|&i| holds(&report.levels[i])).collect();
+            let _ = writeln!(
+                t,
+                "warning: critical heights closer than the layer height: z = {} ({}); a nearly flat surface in steps prints as stray partial layers",
+                zs.join(", "),
+                what.join("; ")
+            );
+        }
+    }
+    t
+}
