@@ -497,6 +497,7 @@ fn write_viewer(dir: &Path, name: &str, mesh: &Mesh, layers: &[(&str, &LevelSet)
         &ViewerOptions {
             title: format!("wmslice: {name}"),
             arrows: false,
+            ..Default::default()
         },
     );
     let path = dir.join(format!("{name}.html"));
@@ -766,5 +767,63 @@ fn demo_command_writes_a_working_viewer() {
     assert_eq!(text_of(&dom, "heading"), "lying_torus");
     assert_eq!(text_of(&dom, "level"), "2");
     assert!(dom.contains("class=\"sno ridge\""), "the ridge is drawn");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `slice --format html` lists the mesh's critical heights beside the
+/// slider: the upright torus has four (-3, -1, 1, 3; by hand in
+/// `tests/critical.rs`); sliced at -2, -1 and 0, the layer at -1 is the
+/// only one linked, and marked while it is shown.
+#[test]
+fn the_slice_viewer_lists_the_critical_heights() {
+    let dir = temp_dir("critical");
+    let out = dir.join("torus.html");
+    let o = Command::new(env!("CARGO_BIN_EXE_wmslice"))
+        .args([
+            "slice",
+            "upright_torus",
+            "--at",
+            "-2",
+            "--at",
+            "-1",
+            "--at",
+            "0",
+        ])
+        .args(["--format", "html", "-o", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let page = std::fs::read_to_string(&out).unwrap();
+    assert!(
+        page.contains(r#""critical":[{"z":"-3""#),
+        "the list is in the page's data"
+    );
+    let Some(bin) = chromium() else { return };
+    let dom = dump_dom(&bin, &out, "z=-1");
+    assert_eq!(body_attr(&dom, "data-ready").as_deref(), Some("1"));
+    // The list as the script built it (the script's source also holds
+    // these tags).
+    let list = |dom: &str| {
+        let at = dom.find(r#"<div id="critical">"#).expect("the list");
+        dom[at..at + dom[at..].find("</div>").unwrap()].to_string()
+    };
+    let shown = list(&dom);
+    assert_eq!(shown.matches("<li data-z=").count(), 4, "{shown}");
+    assert_eq!(
+        shown.matches("<a data-to=").count(),
+        1,
+        "only -1 is a layer"
+    );
+    assert!(
+        shown.contains(r#"<li data-z="-1" class="here">"#),
+        "{shown}"
+    );
+    let dom = dump_dom(&bin, &out, "z=0");
+    assert!(!list(&dom).contains("class=\"here\""), "0 is not critical");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -369,6 +369,7 @@ fn viewer_is_self_contained_and_embeds_every_layer() {
         &ViewerOptions {
             title: "t".into(),
             arrows: false,
+            ..Default::default()
         },
     );
     for banned in ["<link", "src=", "@import", "url(", "https://", "http://w"] {

@@ -89,6 +89,7 @@ pub fn run(args: DemoArgs) -> Result<(), Failure> {
         &ViewerOptions {
             title: "wmslice demo: degenerate levels".into(),
             arrows: false,
+            ..Default::default()
         },
     );
     let out = &args.output;

@@ -17,9 +17,10 @@ use super::input::Input;
 use super::{emit, usage, ExitCode, Failure, Tag};
 use anyhow::anyhow;
 use std::path::{Path, PathBuf};
+use wmslice::critical::CriticalReport;
 use wmslice::output::atomic::write_atomic;
 use wmslice::output::cli_layers::{self, CliOptions, Encoding, LoopChoice};
-use wmslice::output::html::{viewer, ViewerLayer, ViewerOptions};
+use wmslice::output::html::{critical_marks, viewer, ViewerLayer, ViewerOptions};
 use wmslice::output::svg::{level_file_name, level_svg, Scene, SvgOptions};
 use wmslice::LevelSet;
 
@@ -76,13 +77,19 @@ fn today() -> String {
 }
 
 /// Writes the rendered format chosen in `a`.
-pub fn write(a: &SliceArgs, input: &Input, sets: &[LevelSet]) -> Result<(), Failure> {
+pub fn write(
+    a: &SliceArgs,
+    input: &Input,
+    sets: &[LevelSet],
+    critical: Option<&CriticalReport>,
+) -> Result<(), Failure> {
     let scene = Scene::new(&input.mesh, input.unit.as_ref());
     let name = part_name(&a.mesh);
     let levels = ascending(sets);
     match a.format {
         Format::Svg => write_svgs(a, &scene, &name, &levels),
         Format::Html => {
+            let (critical, unlisted_marks) = critical.map(critical_marks).unwrap_or_default();
             let layers: Vec<ViewerLayer> = levels
                 .iter()
                 .map(|ls| ViewerLayer {
@@ -97,6 +104,8 @@ pub fn write(a: &SliceArgs, input: &Input, sets: &[LevelSet]) -> Result<(), Fail
                 &ViewerOptions {
                     title: format!("wmslice: {name}"),
                     arrows: a.arrows,
+                    critical,
+                    unlisted_marks,
                 },
             );
             emit(a.output.as_deref(), &page)?;

@@ -279,7 +279,15 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
                         .into(),
                 ));
             }
-            return super::render::write(&a, &input, &sets);
+            // The viewer lists the critical heights beside the slider.
+            let report = match a.format {
+                Format::Html => Some(critical::analyze(&slicer).map_err(|e| Failure {
+                    code: ExitCode::Internal,
+                    error: e.into(),
+                })?),
+                _ => None,
+            };
+            return super::render::write(&a, &input, &sets, report.as_ref());
         }
         Format::Json => to_json(&header, &sets, ex),
         Format::Summary => sets.iter().map(summary).collect::<Vec<_>>().join("\n") + "\n",

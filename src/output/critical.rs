@@ -176,7 +176,7 @@ fn approx(r: &Rat) -> String {
 }
 
 /// What a level holds, in words (`"1 up flat, 2 saddles (m = 2, 3)"`).
-fn holds(l: &CriticalLevel) -> String {
+pub fn holds(l: &CriticalLevel) -> String {
     let mut parts = Vec::new();
     let mut count = |n: usize, one: &str, many: &str| {
         if n > 0 {

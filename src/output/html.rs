@@ -24,8 +24,10 @@
 //! placed by fixed CSS: left 8 px, top 92 px, up to 276 px from the right
 //! edge and 8 px from the bottom.
 
+use super::critical::holds;
 use super::svg::{drawing, style, xml_escape, Scene, SvgOptions};
 use crate::classify::{ExtremumKind, Facing, RidgeKind};
+use crate::critical::CriticalReport;
 use crate::exact::rational::{rat_to_f64, rat_to_string};
 use crate::levelset::{total_area, LevelSet, Loop};
 use crate::nest::Role;
@@ -50,6 +52,42 @@ pub struct ViewerOptions {
     pub title: String,
     /// Direction arrows shown at load (they can be toggled either way).
     pub arrows: bool,
+    /// The mesh's critical heights, listed beside the slider (empty: no
+    /// list). See [`critical_marks`].
+    pub critical: Vec<CriticalMark>,
+    /// Critical heights beyond the list (said under it).
+    pub unlisted_marks: usize,
+}
+
+/// One critical height as the viewer lists it.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct CriticalMark {
+    /// The exact height, `"p/q"` (a layer at exactly this level is linked).
+    pub z: String,
+    /// The nearest double, for reading.
+    pub approx: String,
+    /// What its level set holds, in words.
+    pub holds: String,
+}
+
+/// At most this many critical heights are listed in a page.
+pub const MAX_MARKS: usize = 1000;
+
+/// The viewer's list of the critical heights of `report` (the first
+/// [`MAX_MARKS`]), and how many are left out.
+pub fn critical_marks(report: &CriticalReport) -> (Vec<CriticalMark>, usize) {
+    let marks: Vec<CriticalMark> = report
+        .levels
+        .iter()
+        .take(MAX_MARKS)
+        .map(|l| CriticalMark {
+            z: rat_to_string(&l.z),
+            approx: rat_to_f64(&l.z).to_string(),
+            holds: holds(l),
+        })
+        .collect();
+    let unlisted = report.levels.len() - marks.len();
+    (marks, unlisted)
 }
 
 /// The counts of each kind at one level, as the viewer lists them.
@@ -155,11 +193,14 @@ struct LayerData {
 }
 
 #[derive(Serialize)]
-struct ViewerData {
+struct ViewerData<'a> {
     format: &'static str,
     version: u32,
     arrows: bool,
     layers: Vec<LayerData>,
+    critical: &'a [CriticalMark],
+    /// Critical heights not listed (beyond [`MAX_MARKS`]).
+    unlisted: usize,
 }
 
 /// JSON text safe inside a `<script>` element: every `<` is escaped (it can
@@ -184,6 +225,9 @@ body{font:13px sans-serif;color:#222;background:#fff}
 #counts td{padding:1px 6px 1px 0;vertical-align:top}
 #counts td.n{text-align:right;font-variant-numeric:tabular-nums}
 .hint{color:#666;font-size:12px}
+#critical ul{margin:2px 0;padding-left:16px}
+#critical li.here{font-weight:bold;background:#fff3b0}
+#critical a{cursor:pointer;color:#1a4fa0;text-decoration:underline}
 body.hide-so .layer-so,body.hide-f .layer-f,body.hide-sno .layer-sno,body.hide-p .layer-p,body.hide-saddle .layer-saddle,body.hide-lminus .layer-lminus,body.hide-lplus .layer-lplus{display:none}
 body:not(.arrows) .arrow{display:none}
 ";
@@ -262,7 +306,31 @@ const SCRIPT: &str = r#"(function () {
     $('counts').innerHTML = countsTable(l.counts);
     slider.value = String(cur);
     body.setAttribute('data-layer', String(cur));
+    markCritical();
     writeHash();
+  }
+  function criticalList() {
+    var C = D.critical, box = $('critical');
+    if (!C.length) { return; }
+    var h = '<p><b>critical heights</b> (' + (C.length + D.unlisted) + ')</p><ul>';
+    C.forEach(function (c) {
+      var j = -1;
+      for (var k = 0; k < n; k++) { if (L[k].z === c.z) { j = k; break; } }
+      var t = esc(c.z) + ' <span class="hint">~' + esc(c.approx) + '</span>: ' + esc(c.holds);
+      h += '<li data-z="' + esc(c.z) + '">' + (j < 0 ? t : '<a data-to="' + j + '">' + t + '</a>') + '</li>';
+    });
+    if (D.unlisted) { h += '<li class="hint">and ' + D.unlisted + ' more (wmslice critical)</li>'; }
+    box.innerHTML = h + '</ul>';
+    box.addEventListener('click', function (e) {
+      var a = e.target.closest ? e.target.closest('a[data-to]') : null;
+      if (a) { e.preventDefault(); show(parseInt(a.getAttribute('data-to'), 10)); }
+    });
+  }
+  function markCritical() {
+    var items = $('critical').getElementsByTagName('li');
+    for (var k = 0; k < items.length; k++) {
+      items[k].classList.toggle('here', n > 0 && items[k].getAttribute('data-z') === L[cur].z);
+    }
   }
   function step(d) { show(cur + d); }
   slider.max = String(Math.max(0, n - 1));
@@ -281,6 +349,7 @@ const SCRIPT: &str = r#"(function () {
     e.preventDefault();
   });
   window.addEventListener('hashchange', function () { readHash(); applyToggles(); show(cur); });
+  criticalList();
   readHash();
   applyToggles();
   show(cur);
@@ -327,6 +396,8 @@ pub fn viewer(layers: &[ViewerLayer], opts: &ViewerOptions) -> String {
                 }
             })
             .collect(),
+        critical: &opts.critical,
+        unlisted: opts.unlisted_marks,
     };
     // Serializing plain strings and numbers cannot fail; fall back to an
     // empty document rather than panicking.
@@ -362,6 +433,7 @@ pub fn viewer(layers: &[ViewerLayer], opts: &ViewerOptions) -> String {
 <svg id="view" xmlns="http://www.w3.org/2000/svg" preserveAspectRatio="xMidYMid meet" viewBox="0 0 1 1"></svg>
 <div id="side">
 <table id="counts"></table>
+<div id="critical"></div>
 <p class="hint" title="PageUp/PageDown step by 10; the URL fragment keeps the layer and the toggles">{layers_text}; keys Left/Right, Home/End</p>
 </div>
 <script type="application/json" id="data">{json}</script>
