@@ -117,9 +117,23 @@ struct Sweep<'a> {
     z: f64,
     // Scratch, reused across heights.
     signs: Vec<Sign>,
-    lower: Vec<bool>,
-    runs: Vec<(Run, Run)>,
     scratch: Vec<u32>,
+    pass_scratch: PassScratch,
+}
+
+/// Buffers of one pass across a vertex, reused.
+#[derive(Default)]
+struct PassScratch {
+    lower: Vec<bool>,
+    upper: Vec<bool>,
+    r_runs: Vec<Run>,
+    u_runs: Vec<Run>,
+    runs: Vec<(Run, Run)>,
+    /// Lower pieces: (root, position, run).
+    pieces: Vec<(u32, u32, usize)>,
+    path_after: Vec<u32>,
+    next_piece: Vec<usize>,
+    done: Vec<bool>,
 }
 
 impl<'a> Sweep<'a> {
@@ -182,19 +196,20 @@ impl<'a> Sweep<'a> {
     fn pass(&mut self, v: VertexId) -> Result<(), CriticalError> {
         let fan = self.topo.fan(v);
         let k = fan.len();
-        let mut lower = std::mem::take(&mut self.lower);
-        lower.clear();
-        lower.extend(fan.iter().map(|e| self.is_lower(e.neighbour, v)));
-        let result = self.pass_with(v, &lower);
-        self.lower = lower;
+        let mut sc = std::mem::take(&mut self.pass_scratch);
+        sc.lower.clear();
+        sc.lower
+            .extend(fan.iter().map(|e| self.is_lower(e.neighbour, v)));
+        let result = self.pass_with(v, &mut sc);
+        self.pass_scratch = sc;
         debug_assert!(k > 0);
         result
     }
 
-    fn pass_with(&mut self, v: VertexId, lower: &[bool]) -> Result<(), CriticalError> {
+    fn pass_with(&mut self, v: VertexId, sc: &mut PassScratch) -> Result<(), CriticalError> {
         let fan = self.topo.fan(v);
         let k = fan.len();
-        let nl = lower.iter().filter(|&&l| l).count();
+        let nl = sc.lower.iter().filter(|&&l| l).count();
         if nl == 0 {
             // A minimum of the sweep order: a new contour around v.
             return match self.seq.build((0..k).rev().map(|i| fan[i].edge)) {
@@ -223,11 +238,11 @@ impl<'a> Sweep<'a> {
             return Ok(());
         }
         // Runs R_j (lower) and U_j (upper, right after R_j).
-        let mut r_runs = Vec::new();
-        Self::runs_of(lower, &mut r_runs);
-        let flipped: Vec<bool> = lower.iter().map(|&l| !l).collect();
-        let mut u_runs = Vec::new();
-        Self::runs_of(&flipped, &mut u_runs);
+        Self::runs_of(&sc.lower, &mut sc.r_runs);
+        sc.upper.clear();
+        sc.upper.extend(sc.lower.iter().map(|&l| !l));
+        Self::runs_of(&sc.upper, &mut sc.u_runs);
+        let (r_runs, u_runs) = (&sc.r_runs, &mut sc.u_runs);
         let r = r_runs.len();
         if u_runs.len() != r {
             return Err(self.internal(format!("unbalanced runs at {v}")));
@@ -239,20 +254,27 @@ impl<'a> Sweep<'a> {
             .position(|u| u.start == first_u_start)
             .ok_or_else(|| self.internal(format!("runs do not alternate at {v}")))?;
         u_runs.rotate_left(shift);
-        let mut runs = std::mem::take(&mut self.runs);
-        runs.clear();
-        runs.extend(r_runs.iter().copied().zip(u_runs.iter().copied()));
-        let out = self.reconnect(v, &runs);
-        self.runs = runs;
-        out
+        sc.runs.clear();
+        sc.runs
+            .extend(sc.r_runs.iter().copied().zip(sc.u_runs.iter().copied()));
+        self.reconnect(v, sc)
     }
 
-    fn reconnect(&mut self, v: VertexId, runs: &[(Run, Run)]) -> Result<(), CriticalError> {
+    fn reconnect(&mut self, v: VertexId, sc: &mut PassScratch) -> Result<(), CriticalError> {
         let fan = self.topo.fan(v);
         let k = fan.len();
+        let PassScratch {
+            runs,
+            pieces,
+            path_after,
+            next_piece,
+            done,
+            ..
+        } = sc;
+        let runs: &[(Run, Run)] = runs;
         let r = runs.len();
         // Locate each lower piece: (root, position, run).
-        let mut pieces: Vec<(u32, u32, usize)> = Vec::with_capacity(r);
+        pieces.clear();
         for (j, (rr, _)) in runs.iter().enumerate() {
             let e = fan[rr.start].edge;
             if !self.seq.contains(e) {
@@ -262,8 +284,10 @@ impl<'a> Sweep<'a> {
             pieces.push((root, pos, j));
         }
         pieces.sort_unstable();
-        let mut path_after = vec![NIL; r];
-        let mut next_piece = vec![usize::MAX; r];
+        path_after.clear();
+        path_after.resize(r, NIL);
+        next_piece.clear();
+        next_piece.resize(r, usize::MAX);
         let mut g = 0;
         while g < pieces.len() {
             let root = pieces[g].0;
@@ -312,7 +336,8 @@ impl<'a> Sweep<'a> {
         }
         // Join: the path after R_j ends before R_m, at L'_{m-1}; then comes
         // U_{m-1} reversed, then L_{m-1}, which starts the path after R_{m-1}.
-        let mut done = vec![false; r];
+        done.clear();
+        done.resize(r, false);
         for j0 in 0..r {
             if done[j0] {
                 continue;
@@ -381,10 +406,13 @@ pub(super) fn sweep(
 ) -> Result<(Vec<CriticalLevel>, ReebGraph), CriticalError> {
     let n = mesh.num_vertices();
     let key = |v: u32| mesh.positions[v as usize][2] + 0.0;
-    let mut order: Vec<u32> = (0..n as u32)
+    // Sorted by (height, id), as pairs: no position is read in the sort.
+    let mut keyed: Vec<(f64, u32)> = (0..n as u32)
         .filter(|&v| !topo.fan(VertexId(v)).is_empty())
+        .map(|v| (key(v), v))
         .collect();
-    order.sort_unstable_by(|&a, &b| key(a).total_cmp(&key(b)).then(a.cmp(&b)));
+    keyed.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let order: Vec<u32> = keyed.into_iter().map(|(_, v)| v).collect();
     let mut rank = vec![u32::MAX; n];
     for (i, &v) in order.iter().enumerate() {
         rank[v as usize] = i as u32;
@@ -400,9 +428,8 @@ pub(super) fn sweep(
         levels: Vec::new(),
         z: 0.0,
         signs: Vec::new(),
-        lower: Vec::new(),
-        runs: Vec::new(),
         scratch: Vec::new(),
+        pass_scratch: PassScratch::default(),
     };
     let mut start = 0;
     let mut ctx = LevelScratch::default();
@@ -496,6 +523,9 @@ impl Sweep<'_> {
         }
         self.signs = signs;
         let critical = ctx.at.iter().any(AtLevel::is_critical);
+        if g == 1 && !critical {
+            return self.pass_regular(VertexId(group[0]));
+        }
         // 2. Components: vertices, then contours below and above.
         ctx.dsu.reset(g);
         ctx.lower_item.clear();
@@ -612,6 +642,38 @@ impl Sweep<'_> {
             return Ok(());
         }
         self.make_nodes(group, ctx, &comps, &node_comps)
+    }
+
+    /// The common case, a vertex alone at its height and not critical: no
+    /// neighbour at its height and at most two sign changes around it, so
+    /// exactly one run of lower and one of upper neighbours (a vertex with
+    /// a neighbour on each side of the plane has both). Its contour passes
+    /// with its arc; no components are needed.
+    fn pass_regular(&mut self, v: VertexId) -> Result<(), CriticalError> {
+        let fan = self.topo.fan(v);
+        let z = self.z;
+        let below = fan.iter().find(|e| self.mesh.pos(e.neighbour)[2] < z);
+        let Some(below) = below.map(|e| e.edge) else {
+            return Err(self.internal(format!("regular {v} has no lower neighbour")));
+        };
+        if !self.seq.contains(below) {
+            return Err(self.internal(format!("edge {below} below {v} is on no contour")));
+        }
+        let arc = self.seq.tag(self.seq.locate(below).0);
+        if arc == NIL {
+            return Err(self.internal(format!("a contour below {v} has no arc")));
+        }
+        self.pass(v)?;
+        let above = fan.iter().find(|e| self.mesh.pos(e.neighbour)[2] > z);
+        let Some(above) = above.map(|e| e.edge) else {
+            return Err(self.internal(format!("regular {v} has no upper neighbour")));
+        };
+        if !self.seq.contains(above) {
+            return Err(self.internal(format!("edge {above} above {v} is on no contour")));
+        }
+        let root = self.seq.locate(above).0;
+        self.seq.set_tag(root, arc);
+        Ok(())
     }
 
     /// Creates the nodes of the current height from its critical
