@@ -277,3 +277,13 @@ fn critical_svg_draws_every_node_and_arc() {
     assert_eq!(svg.matches("<circle").count(), 4 + 7);
     assert_eq!(svg.matches("<path").count(), 5);
 }
+
+/// The README's picture is what the command draws today (regenerate with
+/// `wmslice critical double_torus --format svg -o docs/reeb-double-torus.svg`).
+#[test]
+fn the_readme_picture_is_current() {
+    let (code, svg, _) = wmslice(&["critical", "double_torus", "--format", "svg"]);
+    assert_eq!(code, 0);
+    let committed = std::fs::read_to_string("docs/reeb-double-torus.svg").unwrap();
+    assert_eq!(svg, committed);
+}
