@@ -254,8 +254,50 @@ fn quantized(mesh: &Mesh, q: f64) -> Mesh {
     out
 }
 
+/// `mesh` with every coordinate times `2^e` (exact for these meshes at
+/// the exponents used: no bit falls below the subnormal range).
+fn scaled(mesh: &Mesh, e: i32) -> Mesh {
+    let mut out = mesh.clone();
+    let f = 2f64.powi(e);
+    for p in &mut out.positions {
+        *p = p.map(|c| c * f);
+    }
+    out
+}
+
+/// The same report with every height times `2^e`.
+fn check_scaled(mesh: &Mesh, e: i32) -> Result<(), TestCaseError> {
+    let a = report(mesh);
+    let b = report(&scaled(mesh, e));
+    let f = if e >= 0 {
+        Rat::from_integer(num_bigint::BigInt::from(1) << e as usize)
+    } else {
+        Rat::new(1.into(), num_bigint::BigInt::from(1) << (-e) as usize)
+    };
+    let mut want = a.levels.clone();
+    for l in &mut want {
+        l.z = &l.z * &f;
+    }
+    prop_assert_eq!(&b.levels, &want);
+    prop_assert_eq!(&b.reeb.arcs, &a.reeb.arcs);
+    Ok(())
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 64, .. ProptestConfig::default() })]
+
+    /// Scaled by a power of two to either end of the double range, a mesh
+    /// has the scaled critical heights and the same Reeb graph.
+    #[test]
+    fn scaled_meshes_give_scaled_answers(
+        s in slab(), nu in 6usize..10, noise in proptest::collection::vec(-12i8..=12, 1..20),
+        e in prop_oneof![Just(-1000), Just(-300), Just(300), Just(1000)],
+    ) {
+        check_scaled(&s.mesh(), e)?;
+        let torus = noisy_torus(nu, 6, 0.7, &noise);
+        prop_assume!(wmslice::mesh::validate::validate(&torus).is_accepted());
+        check_scaled(&torus, e)?;
+    }
 
     /// Slabs with integer heights: plateaus, ridges, valleys, saddles with
     /// ties everywhere, turned on their side (`rot`) so walls are flat.
