@@ -5,6 +5,7 @@
 //! uniform layers, each level rounded on the slicing threads.
 
 use crate::core::{CoreError, MeshCore};
+use crate::errors::InternalError;
 use crate::errors::{invalid_mesh, load_error, report_error, slice_error, snap_error, sweep_error};
 use crate::level::{round_level, HeaderSrc, Level, RoundedLevel};
 use crate::values::{exact, levels as levels_of};
@@ -14,11 +15,13 @@ use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::sync::Arc;
+use wmslice::critical::{self, fit::PlanReport};
 use wmslice::exact::rational::{rat_to_f64, rat_to_string, Rat};
 use wmslice::layers::{height_range, plan_levels, slice_levels_then, LayerPlan};
 use wmslice::levelset::LevelSet;
 use wmslice::mesh::io::{load_bytes, read_file, MeshFormat};
 use wmslice::mesh::validate::Severity;
+use wmslice::output::critical::critical_json;
 use wmslice::{datasets as builtin, Mesh as RawMesh};
 
 /// A validated mesh, ready to slice.
@@ -555,6 +558,43 @@ impl Mesh {
             .map_err(|e| core_error(py, e))?;
         Ok(Mesh {
             core: Arc::new(core),
+        })
+    }
+
+    /// The `wmslice-critical` JSON document, as `wmslice critical --format
+    /// json` writes it: the critical heights, the Reeb graph and, with a
+    /// layer height, the fitted plan (`fit`) or the uniform plan's audit
+    /// (first plane `first`, default mid-layer above the lowest vertex).
+    #[pyo3(signature = (layer_height=None, fit=false, first=None))]
+    fn critical_json(
+        &self,
+        py: Python<'_>,
+        layer_height: Option<&Bound<'_, PyAny>>,
+        fit: bool,
+        first: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<String> {
+        let height = layer_height.map(|h| exact("layer_height", h)).transpose()?;
+        let first = first.map(|f| exact("first", f)).transpose()?;
+        if height.is_none() && (fit || first.is_some()) {
+            return Err(PyValueError::new_err("fit and first need a layer_height"));
+        }
+        let core = Arc::clone(&self.core);
+        py.detach(move || {
+            let report = critical::analyze(core.slicer())
+                .map_err(|e| InternalError::new_err(e.to_string()))?;
+            let plan = match height {
+                None => None,
+                Some(h) if fit => Some(PlanReport::fitted(&report, &h)),
+                Some(h) => {
+                    let first = first.unwrap_or_else(|| {
+                        height_range(core.mesh(), core.unit()).0 + &h / Rat::from_integer(2.into())
+                    });
+                    Some(PlanReport::uniform(&report, &h, &first))
+                }
+            }
+            .transpose()
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+            Ok(critical_json(core.header(), &report, plan.as_ref()))
         })
     }
 

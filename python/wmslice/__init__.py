@@ -439,6 +439,19 @@ class Mesh:
         ``--layer-height``, ``--first``, ``--last``)."""
         return LevelSets(LevelSet(x) for x in self._m.slice_layers(layer_height, first, last, exact, threads))
 
+    def critical(self, layer_height=None, fit: bool = False, first=None) -> dict:
+        """The critical heights and the unperturbed Reeb graph, as the
+        ``wmslice-critical`` document of ``wmslice critical --format json``
+        (a dict; heights are exact ``'p/q'`` strings). With ``layer_height``:
+        ``fit=True`` adds the fitted plan (``'layers'``: each between H/2 and
+        3H/2 thick, every flat on a boundary; ``ValueError`` when two flats
+        are closer than H/2), else the uniform plan's ``'audit'`` (planes
+        ``first + k * layer_height``, default mid-layer above the lowest
+        vertex); both add ``'clusters'`` of critical heights closer than H."""
+        import json
+
+        return json.loads(self._m.critical_json(layer_height, fit, first))
+
     def __reduce__(self):
         return (Mesh._wrap, (self._m,))
 

@@ -6,12 +6,12 @@ use super::args::{CriticalArgs, CriticalFormat};
 use super::input::load_input;
 use super::{emit, slice_error, usage, ExitCode, Failure};
 use anyhow::anyhow;
-use wmslice::critical::fit::{audit_uniform, clusters, fit_layers};
+use wmslice::critical::fit::PlanReport;
 use wmslice::critical::{self, CriticalReport};
 use wmslice::exact::parse_rational;
 use wmslice::exact::rational::Rat;
 use wmslice::layers::height_range;
-use wmslice::output::critical::{critical_json, critical_text, PlanReport};
+use wmslice::output::critical::{critical_json, critical_text};
 use wmslice::output::json::MeshHeader;
 use wmslice::output::reeb_svg::reeb_svg;
 use wmslice::Slicer;
@@ -30,24 +30,14 @@ fn plan(
     let Some(height) = parse("--layer-height", a.layer_height.as_deref())? else {
         return Ok(None);
     };
-    let bad = |e: critical::fit::FitError| usage(e.to_string());
-    let found = clusters(report, &height).map_err(bad)?;
-    Ok(Some(if a.fit_critical {
-        PlanReport::Fitted {
-            layers: fit_layers(report, &height).map_err(bad)?,
-            height,
-            clusters: found,
-        }
+    let plan = if a.fit_critical {
+        PlanReport::fitted(report, &height)
     } else {
         let two = Rat::from_integer(2.into());
         let first = parse("--first", a.first.as_deref())?.unwrap_or_else(|| z_min + &height / two);
-        PlanReport::Uniform {
-            audit: audit_uniform(report, &height, &first).map_err(bad)?,
-            height,
-            first,
-            clusters: found,
-        }
-    }))
+        PlanReport::uniform(report, &height, &first)
+    };
+    plan.map(Some).map_err(|e| usage(e.to_string()))
 }
 
 /// Runs `critical`.

@@ -263,6 +263,62 @@ pub fn audit_uniform(
     Ok(out)
 }
 
+/// A layer plan to report beside the critical values.
+#[derive(Clone, Debug)]
+pub enum PlanReport {
+    /// `--fit-critical`: the fitted layers.
+    Fitted {
+        /// The target layer height `H`.
+        height: Rat,
+        /// The layers, bottom to top.
+        layers: Vec<Layer>,
+        /// Runs of critical heights closer than `H` (indices into the
+        /// report's levels).
+        clusters: Vec<Vec<usize>>,
+    },
+    /// Without `--fit-critical`: what the uniform plan does to each flat.
+    Uniform {
+        /// The layer height `H`.
+        height: Rat,
+        /// The first plane `Z0`.
+        first: Rat,
+        /// One entry per flat and facing.
+        audit: Vec<FlatAudit>,
+        /// As for [`PlanReport::Fitted`].
+        clusters: Vec<Vec<usize>>,
+    },
+}
+
+impl PlanReport {
+    /// The fitted plan of `report` for the layer height `h`
+    /// ([`fit_layers`]), with its [`clusters`].
+    pub fn fitted(report: &CriticalReport, h: &Rat) -> Result<Self, FitError> {
+        Ok(PlanReport::Fitted {
+            layers: fit_layers(report, h)?,
+            clusters: clusters(report, h)?,
+            height: h.clone(),
+        })
+    }
+
+    /// The audit of the uniform plan `first + k h` ([`audit_uniform`]),
+    /// with its [`clusters`].
+    pub fn uniform(report: &CriticalReport, h: &Rat, first: &Rat) -> Result<Self, FitError> {
+        Ok(PlanReport::Uniform {
+            audit: audit_uniform(report, h, first)?,
+            clusters: clusters(report, h)?,
+            height: h.clone(),
+            first: first.clone(),
+        })
+    }
+
+    /// Its clusters of critical heights closer than `H`.
+    pub fn clusters(&self) -> &[Vec<usize>] {
+        match self {
+            PlanReport::Fitted { clusters, .. } | PlanReport::Uniform { clusters, .. } => clusters,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -8,45 +8,11 @@
 
 use super::json::MeshHeader;
 use crate::classify::Facing;
-use crate::critical::fit::{FlatAudit, Layer};
+use crate::critical::fit::PlanReport;
 use crate::critical::{CriticalLevel, CriticalReport, ReebNode};
 use crate::exact::rational::{rat_to_f64, rat_to_string, Rat};
 use serde_json::{json, Value};
 use std::fmt::Write;
-
-/// A layer plan to report beside the critical values.
-#[derive(Clone, Debug)]
-pub enum PlanReport {
-    /// `--fit-critical`: the fitted layers.
-    Fitted {
-        /// The target layer height `H`.
-        height: Rat,
-        /// The layers, bottom to top.
-        layers: Vec<Layer>,
-        /// Runs of critical heights closer than `H` (indices into the
-        /// report's levels).
-        clusters: Vec<Vec<usize>>,
-    },
-    /// Without `--fit-critical`: what the uniform plan does to each flat.
-    Uniform {
-        /// The layer height `H`.
-        height: Rat,
-        /// The first plane `Z0`.
-        first: Rat,
-        /// One entry per flat and facing.
-        audit: Vec<FlatAudit>,
-        /// As for [`PlanReport::Fitted`].
-        clusters: Vec<Vec<usize>>,
-    },
-}
-
-impl PlanReport {
-    fn clusters(&self) -> &[Vec<usize>] {
-        match self {
-            PlanReport::Fitted { clusters, .. } | PlanReport::Uniform { clusters, .. } => clusters,
-        }
-    }
-}
 
 fn s(r: &Rat) -> String {
     rat_to_string(r)
