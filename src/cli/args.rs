@@ -111,13 +111,28 @@ pub enum LoopSide {
 #[derive(Args, Debug)]
 pub struct GenArgs {
     /// List the datasets.
-    #[arg(long)]
+    #[arg(long, conflicts_with_all = ["families", "random"])]
     pub list: bool,
+    /// List the random families: one line each, with what they exercise.
+    #[arg(long, conflicts_with = "random")]
+    pub families: bool,
+    /// Write a random mesh of `--family` for this seed (deterministic:
+    /// the same bytes on every machine and thread count).
+    #[arg(long, value_name = "SEED", requires = "family", conflicts_with = "name")]
+    pub random: Option<u64>,
+    /// The random family (see `--families`).
+    #[arg(long, value_name = "NAME", requires = "random")]
+    pub family: Option<String>,
+    /// With `--random`: also write the answers (JSON: every critical
+    /// height and the midpoints between them, each with its exact
+    /// summary, verified before it is written).
+    #[arg(long, value_name = "FILE", requires = "random")]
+    pub answers: Option<PathBuf>,
     /// Dataset name.
-    #[arg(required_unless_present = "list")]
+    #[arg(required_unless_present_any = ["list", "families", "random"])]
     pub name: Option<String>,
     /// Output file (format by extension: stl, obj, off, ply).
-    #[arg(short, long, required_unless_present = "list")]
+    #[arg(short, long, required_unless_present_any = ["list", "families"])]
     pub output: Option<PathBuf>,
 }
 

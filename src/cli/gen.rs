@@ -1,9 +1,11 @@
-//! `wmslice gen`: list or write the built-in datasets.
+//! `wmslice gen`: list or write the built-in datasets, list the random
+//! families, or write a random mesh of one family with its answers.
 
 use super::args::GenArgs;
-use super::{usage, ExitCode, Failure, Tag};
+use super::{emit, usage, ExitCode, Failure, Tag};
 use crate::say;
 use wmslice::datasets;
+use wmslice::datasets::families::{self, answers::AnswerError};
 
 /// Runs `gen`.
 pub fn run(a: GenArgs) -> Result<(), Failure> {
@@ -13,10 +15,50 @@ pub fn run(a: GenArgs) -> Result<(), Failure> {
         }
         return Ok(());
     }
+    if a.families {
+        for f in families::all() {
+            say!("{:<14} {}", f.name, f.summary);
+        }
+        return Ok(());
+    }
+    let out = a.output.ok_or_else(|| usage("missing -o FILE".into()))?;
+    if let Some(seed) = a.random {
+        let name = a.family.unwrap_or_default();
+        let f = families::by_name(&name).ok_or_else(|| {
+            usage(format!(
+                "unknown family {name} (see `wmslice gen --families`)"
+            ))
+        })?;
+        let mesh = f.generate(seed);
+        // The answers first: nothing is written when they fail.
+        let answers = match &a.answers {
+            Some(path) => {
+                let answers = families::answers::answers(mesh.clone(), f.snap().as_ref())
+                    .map_err(|e| {
+                        let code = match e {
+                            AnswerError::Snap(_) => ExitCode::InvalidMesh,
+                            _ => ExitCode::Internal,
+                        };
+                        Failure {
+                            code,
+                            error: e.into(),
+                        }
+                    })?;
+                Some((path, answers.to_json(f, seed)))
+            }
+            None => None,
+        };
+        mesh.save(&out).tag(ExitCode::Output)?;
+        eprintln!("wrote {} seed {seed} to {}", f.name, out.display());
+        if let Some((path, text)) = answers {
+            emit(Some(path), &text)?;
+            eprintln!("wrote its answers to {}", path.display());
+        }
+        return Ok(());
+    }
     let name = a.name.unwrap_or_default();
     let d = datasets::by_name(&name)
         .ok_or_else(|| usage(format!("unknown dataset {name} (see `wmslice gen --list`)")))?;
-    let out = a.output.ok_or_else(|| usage("missing -o FILE".into()))?;
     d.build().save(&out).tag(ExitCode::Output)?;
     eprintln!("wrote {} to {}", d.name, out.display());
     Ok(())

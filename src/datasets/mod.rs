@@ -11,6 +11,7 @@
 
 mod build;
 pub mod expected;
+pub mod families;
 mod shapes;
 pub mod slab;
 
