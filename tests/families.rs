@@ -25,10 +25,19 @@ fn family(name: &str) -> &'static Family {
 fn there_are_five_families_with_distinct_names() {
     let names: BTreeSet<&str> = all().iter().map(|f| f.name).collect();
     assert_eq!(names.len(), 5);
-    for n in ["height_field", "polycube", "terraced", "egg_crate", "handles"] {
+    for n in [
+        "height_field",
+        "polycube",
+        "terraced",
+        "egg_crate",
+        "handles",
+    ] {
         assert!(names.contains(n), "{n}");
     }
-    assert_eq!(family("terraced").snap(), Some(Rat::new(1.into(), 1000.into())));
+    assert_eq!(
+        family("terraced").snap(),
+        Some(Rat::new(1.into(), 1000.into()))
+    );
     assert!(by_name("nope").is_none());
 }
 
@@ -41,10 +50,18 @@ fn every_family_makes_accepted_meshes_for_many_seeds() {
             assert!(report.is_accepted(), "{} seed {seed}:\n{report}", f.name);
             if let Some(q) = f.snap() {
                 let p = wmslice::mesh::prepare::prepare(mesh, Some(&q)).expect("snaps");
-                assert!(p.flips.is_empty(), "{} seed {seed}: no degenerate face", f.name);
+                assert!(
+                    p.flips.is_empty(),
+                    "{} seed {seed}: no degenerate face",
+                    f.name
+                );
                 assert_eq!(p.snap.as_ref().map(|s| s.merged), Some(0));
                 let report = validate(&p.mesh);
-                assert!(report.is_accepted(), "{} seed {seed} snapped:\n{report}", f.name);
+                assert!(
+                    report.is_accepted(),
+                    "{} seed {seed} snapped:\n{report}",
+                    f.name
+                );
             }
         }
     }
@@ -62,7 +79,8 @@ fn generated_bytes(f: &Family, seed: u64, threads: usize) -> (Vec<u8>, Vec<u8>, 
         let mesh = f.generate(seed);
         let (obj, stl) = (dir.path().join("m.obj"), dir.path().join("m.stl"));
         mesh.save_as(&obj, MeshFormat::Obj).expect("writes OBJ");
-        mesh.save_as(&stl, MeshFormat::StlBinary).expect("writes STL");
+        mesh.save_as(&stl, MeshFormat::StlBinary)
+            .expect("writes STL");
         let a = answers(mesh, f.snap().as_ref()).expect("answers");
         (
             std::fs::read(obj).expect("reads"),
@@ -79,7 +97,12 @@ fn generation_is_deterministic_across_calls_and_thread_counts() {
             let one = generated_bytes(f, seed, 1);
             let two = generated_bytes(f, seed, 2);
             assert_eq!(one, two, "{} seed {seed}", f.name);
-            assert_ne!(f.generate(seed), f.generate(seed + 1), "{} seeds differ", f.name);
+            assert_ne!(
+                f.generate(seed),
+                f.generate(seed + 1),
+                "{} seeds differ",
+                f.name
+            );
         }
     }
 }
@@ -113,7 +136,10 @@ fn each_family_hits_the_degeneracies_it_claims() {
                 add("min", s.p_min > 0);
                 add("max", s.p_max > 0);
                 add("collapsed", s.l_minus_collapsed + s.l_plus_collapsed > 0);
-                add("hole_in_region", s.f_regions > 0 && s.l_minus_loops + s.l_plus_loops > 2);
+                add(
+                    "hole_in_region",
+                    s.f_regions > 0 && s.l_minus_loops + s.l_plus_loops > 2,
+                );
                 add("mixed", l.kind == LevelKind::Mixed);
                 for m in &s.saddles {
                     add(&format!("m{m}"), true);
@@ -125,19 +151,48 @@ fn each_family_hits_the_degeneracies_it_claims() {
     let wants: [(&str, &[&str]); 5] = [
         (
             "height_field",
-            &["flat_up", "flat_down", "ridge", "valley", "min", "max", "m2", "mixed", "genus"],
+            &[
+                "flat_up",
+                "flat_down",
+                "ridge",
+                "valley",
+                "min",
+                "max",
+                "m2",
+                "mixed",
+                "genus",
+            ],
         ),
-        ("polycube", &["flat_up", "flat_down", "genus", "hole_in_region"]),
+        (
+            "polycube",
+            &["flat_up", "flat_down", "genus", "hole_in_region"],
+        ),
         ("terraced", &["flat_up", "flat_down", "decimal"]),
-        ("egg_crate", &["m2", "m3", "m4", "min", "max", "flat_up", "mixed"]),
+        (
+            "egg_crate",
+            &["m2", "m3", "m4", "min", "max", "flat_up", "mixed"],
+        ),
         (
             "handles",
-            &["ridge", "valley", "m2", "flat_up", "flat_down", "collapsed", "genus", "components"],
+            &[
+                "ridge",
+                "valley",
+                "m2",
+                "flat_up",
+                "flat_down",
+                "collapsed",
+                "genus",
+                "components",
+            ],
         ),
     ];
     for (name, want) in wants {
         for w in want {
-            assert!(seen[name].contains(*w), "{name} never shows {w}: {:?}", seen[name]);
+            assert!(
+                seen[name].contains(*w),
+                "{name} never shows {w}: {:?}",
+                seen[name]
+            );
         }
     }
 }
@@ -173,15 +228,25 @@ fn check_against_independent_classification(f: &Family, seed: u64) {
     let snap = f.snap();
     let x = ExactMesh::new(&mesh, snap.as_ref());
     let a = answers(mesh, snap.as_ref()).expect("answers");
-    let at = |what: &str, z: &Rat| format!("{} seed {seed} z = {}: {what}", f.name, rat_to_string(z));
+    let at =
+        |what: &str, z: &Rat| format!("{} seed {seed} z = {}: {what}", f.name, rat_to_string(z));
     let critical: Vec<Rat> = x
         .heights
         .iter()
         .filter(|c| x.classify(c).is_critical())
         .cloned()
         .collect();
-    let listed_critical: Vec<Rat> = a.levels.iter().filter(|l| l.critical).map(|l| l.z.clone()).collect();
-    assert_eq!(listed_critical, critical, "{} seed {seed}: the critical heights", f.name);
+    let listed_critical: Vec<Rat> = a
+        .levels
+        .iter()
+        .filter(|l| l.critical)
+        .map(|l| l.z.clone())
+        .collect();
+    assert_eq!(
+        listed_critical, critical,
+        "{} seed {seed}: the critical heights",
+        f.name
+    );
     assert_eq!(a.levels.len(), 2 * critical.len() - 1);
     let two = Rat::from_integer(2.into());
     for (k, l) in a.levels.iter().enumerate() {
@@ -193,9 +258,19 @@ fn check_against_independent_classification(f: &Family, seed: u64) {
         let s = &l.summary;
         let c = x.classify(z);
         assert_eq!(s.f_regions, c.f_regions, "{}", at("F regions", z));
-        assert_eq!((s.f_up, s.f_down), (c.f_up, c.f_down), "{}", at("F facing", z));
+        assert_eq!(
+            (s.f_up, s.f_down),
+            (c.f_up, c.f_down),
+            "{}",
+            at("F facing", z)
+        );
         assert_eq!(s.f_area, c.f_area, "{}", at("F area", z));
-        assert_eq!((s.s_no_ridges, s.s_no_valleys), (c.s_no_ridges, c.s_no_valleys), "{}", at("S_NO", z));
+        assert_eq!(
+            (s.s_no_ridges, s.s_no_valleys),
+            (c.s_no_ridges, c.s_no_valleys),
+            "{}",
+            at("S_NO", z)
+        );
         assert_eq!(s.s_no_polylines, c.s_no_ridges + c.s_no_valleys);
         assert_eq!((s.p_min, s.p_max), (c.p_min, c.p_max), "{}", at("P", z));
         assert_eq!(s.saddles, c.saddles, "{}", at("saddles", z));
@@ -203,34 +278,67 @@ fn check_against_independent_classification(f: &Family, seed: u64) {
         assert_eq!(s.s_o_area, c.s_o_area, "{}", at("S_O area", z));
         let below = x.limit(z, true);
         let above = x.limit(z, false);
+        // Loop counts and exact areas. The collapsed counts are not
+        // compared: the classifier flags a loop whose own limit area is 0,
+        // SPEC 6 (and the slicer) a loop bounding a region of zero limit
+        // area (a ridge ring's two loops each bound a disc, yet the ring
+        // between them vanishes); the verifier checks the flag exactly.
         assert_eq!(
-            (s.l_minus_loops, s.l_minus_collapsed, &s.l_minus_area),
-            (below.loops, below.collapsed, &below.area),
+            (s.l_minus_loops, &s.l_minus_area),
+            (below.loops, &below.area),
             "{}",
             at("L-", z)
         );
         assert_eq!(
-            (s.l_plus_loops, s.l_plus_collapsed, &s.l_plus_area),
-            (above.loops, above.collapsed, &above.area),
+            (s.l_plus_loops, &s.l_plus_area),
+            (above.loops, &above.area),
             "{}",
             at("L+", z)
         );
         // Material just below but not just above lies on up faces, and
         // the other way round: S_O's region is L-'s less the up regions.
-        assert_eq!(&below.area - &c.f_up_area, c.s_o_area, "{}", at("L- = S_O + F up", z));
-        assert_eq!(&above.area - &c.f_down_area, c.s_o_area, "{}", at("L+ = S_O + F down", z));
-        if !l.critical {
+        assert_eq!(
+            &below.area - &c.f_up_area,
+            c.s_o_area,
+            "{}",
+            at("L- = S_O + F up", z)
+        );
+        assert_eq!(
+            &above.area - &c.f_down_area,
+            c.s_o_area,
+            "{}",
+            at("L+ = S_O + F down", z)
+        );
+        // A midpoint can be the height of a vertex that is not critical;
+        // elsewhere the level holds no vertex and its loops are counted
+        // directly.
+        if !l.critical && x.heights.binary_search(z).is_err() {
             let regular = x.regular(z);
             assert_eq!(regular.len(), s.s_o_loops, "{}", at("a regular level", z));
         }
-        assert_eq!(l.kind == LevelKind::Regular, !l.critical, "{}", at("kind", z));
+        assert_eq!(
+            l.kind == LevelKind::Regular,
+            !l.critical,
+            "{}",
+            at("kind", z)
+        );
     }
     // Between critical heights nothing changes: at every vertex height
     // that is not critical, L- and L+ have one structure and one area.
     for h in x.heights.iter().filter(|h| !critical.contains(h)) {
         let (b, u) = (x.limit(h, true), x.limit(h, false));
-        assert_eq!((b.loops, &b.area), (u.loops, &u.area), "{}", at("regular vertex height", h));
-        assert_eq!(b.collapsed + u.collapsed, 0, "{}", at("regular vertex height", h));
+        assert_eq!(
+            (b.loops, &b.area),
+            (u.loops, &u.area),
+            "{}",
+            at("regular vertex height", h)
+        );
+        assert_eq!(
+            b.collapsed + u.collapsed,
+            0,
+            "{}",
+            at("regular vertex height", h)
+        );
     }
 }
 
@@ -276,10 +384,16 @@ fn independent_classification_on_hand_derived_datasets() {
     let x = ExactMesh::new(&cube, None);
     let half = Rat::new(1.into(), 2.into());
     let c = x.classify(&half);
-    assert_eq!((c.s_o_loops, c.s_o_area.clone()), (1, Rat::from_integer(1.into())));
+    assert_eq!(
+        (c.s_o_loops, c.s_o_area.clone()),
+        (1, Rat::from_integer(1.into()))
+    );
     let top = x.classify(&Rat::from_integer(1.into()));
     assert_eq!((top.f_up, top.s_o_loops), (1, 0));
-    assert_eq!(x.limit(&Rat::from_integer(1.into()), true).area, Rat::from_integer(1.into()));
+    assert_eq!(
+        x.limit(&Rat::from_integer(1.into()), true).area,
+        Rat::from_integer(1.into())
+    );
     let torus = wmslice::datasets::by_name("upright_torus").unwrap().build();
     let x = ExactMesh::new(&torus, None);
     for z in [-1, 1] {
@@ -290,12 +404,77 @@ fn independent_classification_on_hand_derived_datasets() {
     let x = ExactMesh::new(&lying, None);
     let top = x.classify(&Rat::from_integer(2.into()));
     assert_eq!((top.s_no_ridges, top.s_o_loops), (1, 0));
+    // Just below the top ridge ring: two loops, around and inside the
+    // ring, whose signed areas cancel in the limit (the ring has no area).
     let below = x.limit(&Rat::from_integer(2.into()), true);
-    assert_eq!((below.loops, below.collapsed), (2, 2));
+    assert_eq!((below.loops, below.area), (2, Rat::from_integer(0.into())));
     let saddle8 = wmslice::datasets::by_name("saddle8").unwrap().build();
     let x = ExactMesh::new(&saddle8, None);
     assert_eq!(x.classify(&Rat::from_integer(2.into())).saddles, vec![4]);
     let double = wmslice::datasets::by_name("double_torus").unwrap().build();
     let x = ExactMesh::new(&double, None);
     assert_eq!(x.classify(&Rat::from_integer(2.into())).saddles, vec![3]);
+}
+
+#[test]
+fn the_gen_command_lists_families_and_writes_a_mesh_with_its_answers() {
+    let run = |args: &[&str]| {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_wmslice"))
+            .args(args)
+            .output()
+            .unwrap();
+        (
+            o.status.code(),
+            String::from_utf8_lossy(&o.stdout).into_owned(),
+        )
+    };
+    let (code, out) = run(&["gen", "--families"]);
+    assert_eq!(code, Some(0));
+    let names: Vec<&str> = out
+        .lines()
+        .filter_map(|l| l.split_whitespace().next())
+        .collect();
+    let expected: Vec<&str> = all().iter().map(|f| f.name).collect();
+    assert_eq!(names, expected);
+    let dir = tempfile::tempdir().unwrap();
+    let write = |tag: &str| {
+        let (m, a) = (
+            dir.path().join(format!("{tag}.obj")),
+            dir.path().join(format!("{tag}.json")),
+        );
+        let (code, _) = run(&[
+            "gen",
+            "--random",
+            "7",
+            "--family",
+            "terraced",
+            "-o",
+            m.to_str().unwrap(),
+            "--answers",
+            a.to_str().unwrap(),
+        ]);
+        assert_eq!(code, Some(0));
+        (
+            std::fs::read(m).unwrap(),
+            std::fs::read_to_string(a).unwrap(),
+        )
+    };
+    let (mesh, text) = write("a");
+    assert_eq!((mesh.clone(), text.clone()), write("b"), "deterministic");
+    let doc: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(doc["format"], "wmslice-answers");
+    assert_eq!(
+        (doc["family"].as_str(), doc["seed"].as_u64()),
+        (Some("terraced"), Some(7))
+    );
+    assert_eq!(doc["mesh"]["snap"], "1/1000");
+    let levels = doc["levels"].as_array().unwrap();
+    assert_eq!(
+        levels.len() % 2,
+        1,
+        "critical heights and the midpoints between"
+    );
+    assert!(levels.iter().step_by(2).all(|l| l["critical"] == true));
+    let (code, _) = run(&["gen", "--random", "1", "--family", "nope", "-o", "x.obj"]);
+    assert_eq!(code, Some(2));
 }

@@ -28,13 +28,17 @@ use wmslice::exact::rational::rat_from_f64;
 use wmslice::exact::Rat;
 use wmslice::Mesh;
 
+/// The faces holding an edge, each with its opposite vertex and the
+/// edge as directed in that face.
+type EdgeFaces = Vec<(usize, usize, (usize, usize))>;
+
 /// A mesh in exact rational coordinates with its edge table.
 pub struct ExactMesh {
     pub pos: Vec<[Rat; 3]>,
     pub faces: Vec<[usize; 3]>,
     /// Sorted vertex pair -> the faces holding it, each with its opposite
     /// vertex and the pair as directed in that face.
-    edges: HashMap<(usize, usize), Vec<(usize, usize, (usize, usize))>>,
+    edges: HashMap<(usize, usize), EdgeFaces>,
     /// Vertex -> its neighbours in fan order (for a face `(v, a, b)`, `a`
     /// comes just before `b`).
     fans: Vec<Vec<usize>>,
@@ -88,7 +92,11 @@ enum Element {
 fn snap_to(x: &Rat, q: &Rat) -> Rat {
     let k = x / q;
     let r = k.round();
-    assert_ne!((&k - k.floor()) * Rat::from_integer(2.into()), Rat::one(), "a tie");
+    assert_ne!(
+        (&k - k.floor()) * Rat::from_integer(2.into()),
+        Rat::one(),
+        "a tie"
+    );
     r * q
 }
 
@@ -113,8 +121,7 @@ impl ExactMesh {
             })
             .collect();
         let faces: Vec<[usize; 3]> = mesh.faces.iter().map(|f| f.map(|v| v.idx())).collect();
-        let mut edges: HashMap<(usize, usize), Vec<(usize, usize, (usize, usize))>> =
-            HashMap::new();
+        let mut edges: HashMap<(usize, usize), EdgeFaces> = HashMap::new();
         let mut next: Vec<BTreeMap<usize, usize>> = vec![BTreeMap::new(); pos.len()];
         for (fi, f) in faces.iter().enumerate() {
             for k in 0..3 {
@@ -263,9 +270,7 @@ impl ExactMesh {
             let a2 = self.face_area2(f);
             let facing = a2.cmp(&Rat::zero());
             let r = find(&mut parent, f);
-            let e = regions
-                .entry(r)
-                .or_insert((facing, Rat::zero()));
+            let e = regions.entry(r).or_insert((facing, Rat::zero()));
             assert!(
                 e.0 == facing || facing == Ordering::Equal || e.0 == Ordering::Equal,
                 "one facing per region (no folds)"
@@ -363,8 +368,8 @@ impl ExactMesh {
             }
         }
         // Face pieces.
-        for f in 0..nf {
-            if in_f[f] {
+        for (f, &flat) in in_f.iter().enumerate().take(nf) {
+            if flat {
                 continue;
             }
             if let Some((s, e, f)) = self.face_piece(f, c) {
@@ -386,7 +391,10 @@ impl ExactMesh {
                 }
             }
             if let Element::Edge(..) = s {
-                assert!(starts_at_edge.insert(*s, i).is_none(), "one piece out of a crossing");
+                assert!(
+                    starts_at_edge.insert(*s, i).is_none(),
+                    "one piece out of a crossing"
+                );
             }
         }
         let mut next: Vec<Option<usize>> = vec![None; pieces.len()];
@@ -439,7 +447,10 @@ impl ExactMesh {
                     next[branches[o].2] = Some(branches[b].2);
                 }
             }
-            assert!(paired.iter().all(|&p| p), "every branch at vertex {v} pairs");
+            assert!(
+                paired.iter().all(|&p| p),
+                "every branch at vertex {v} pairs"
+            );
         }
         out.saddles.sort_unstable();
         // Loops: the cycles of `next`.
@@ -517,7 +528,9 @@ impl ExactMesh {
             ts.iter().map(|t| self.regular(t)).collect();
         let keys: Vec<_> = samples[0].keys().copied().collect();
         assert!(
-            samples.iter().all(|s| s.keys().copied().eq(keys.iter().copied())),
+            samples
+                .iter()
+                .all(|s| s.keys().copied().eq(keys.iter().copied())),
             "the same loops across a regular interval"
         );
         let mut out = Limit {

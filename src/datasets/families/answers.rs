@@ -1,14 +1,13 @@
 //! Input: a mesh as generated (and the snap grid its answers assume).
-//! Output: its critical heights, found by brute force, and the answers:
+//! Output: its critical heights ([`crate::critical::analyze`]) and the answers:
 //! at every critical height and at the midpoint between consecutive ones,
 //! counts and exact areas of each part of the level set, re-checked by the
 //! independent verifier before they are given.
 //!
 //! A height is critical when the level set there holds a face region
 //! (F), a ridge or valley (S_NO), an extremum (P) or a saddle (2m >= 4
-//! branches): [`brute_force_critical_heights`] slices at every distinct
-//! vertex height and keeps those (a small function kept apart on purpose,
-//! to be compared with the library's critical-height finder). Between two
+//! branches); `tests/families.rs` compares the list with an independent
+//! exact classifier at every vertex height. Between two
 //! consecutive critical heights the contours only move (SPEC 7, invariant
 //! 5, holds across regular vertex heights too; `tests/families.rs` checks
 //! that L- and L+ agree at every non-critical vertex height).
@@ -23,7 +22,6 @@
 use crate::datasets::families::Family;
 use crate::exact::rational::{rat_to_string, Rat};
 use crate::exact::{parse_rational, RationalParseError};
-use crate::levelset::check::vertex_heights;
 use crate::levelset::{SliceError, Slicer};
 use crate::mesh::prepare::{prepare, Prepared};
 use crate::mesh::snap::SnapError;
@@ -43,6 +41,9 @@ pub enum AnswerError {
     /// The slicer refused the mesh or failed.
     #[error(transparent)]
     Slice(#[from] SliceError),
+    /// The critical-height sweep failed (a bug).
+    #[error("finding the critical heights: {0}")]
+    Critical(String),
     /// The verifier could not read the document.
     #[error(transparent)]
     Verify(#[from] VerifyError),
@@ -50,7 +51,9 @@ pub enum AnswerError {
     #[error("reading the verified document back: {0}")]
     Reread(String),
     /// The verifier found the slicer's result wrong: an internal error.
-    #[error("the verifier rejects the answers (internal error, please report): {summary}\n{first}")]
+    #[error(
+        "the verifier rejects the answers (internal error, please report): {summary}\n{first}"
+    )]
     Rejected {
         /// The verifier's summary line.
         summary: String,
@@ -188,9 +191,9 @@ impl Summary {
 }
 
 fn loops_area(loops: &[LoopDoc]) -> Result<Rat, AnswerError> {
-    loops.iter().try_fold(Rat::zero(), |s, l| {
-        Ok(s + parse_rational(&l.area_exact)?)
-    })
+    loops
+        .iter()
+        .try_fold(Rat::zero(), |s, l| Ok(s + parse_rational(&l.area_exact)?))
 }
 
 /// The summary of one verified level, read from its document.
@@ -198,10 +201,9 @@ pub fn summarize(l: &LevelDoc) -> Result<Summary, AnswerError> {
     let facing = |f: &str| l.faces.iter().filter(|r| r.facing == f).count();
     let kind = |k: &str| l.ridges.iter().filter(|r| r.kind == k).count();
     let point = |k: &str| l.points.iter().filter(|p| p.kind == k).count();
-    let f_area = l
-        .faces
-        .iter()
-        .try_fold(Rat::zero(), |s, r| Ok::<_, AnswerError>(s + parse_rational(&r.area)?))?;
+    let f_area = l.faces.iter().try_fold(Rat::zero(), |s, r| {
+        Ok::<_, AnswerError>(s + parse_rational(&r.area)?)
+    })?;
     let mut saddles: Vec<u64> = l.saddles.iter().map(|s| s.branches / 2).collect();
     saddles.sort_unstable();
     Ok(Summary {
@@ -224,26 +226,6 @@ pub fn summarize(l: &LevelDoc) -> Result<Summary, AnswerError> {
         l_plus_collapsed: l.above.iter().filter(|x| x.collapsed).count(),
         l_plus_area: loops_area(&l.above)?,
     })
-}
-
-/// Every distinct vertex height (true units) whose level set holds a face
-/// region, a ridge or valley, an extremum or a saddle, ascending: one
-/// slice per distinct vertex height.
-pub fn brute_force_critical_heights(slicer: &Slicer<'_>) -> Result<Vec<Rat>, SliceError> {
-    let unit = slicer.unit().clone();
-    let mut out = Vec::new();
-    for z in vertex_heights(slicer.mesh()) {
-        let c = z * &unit;
-        let ls = slicer.slice_at(&c)?;
-        let critical = !ls.regions.is_empty()
-            || !ls.ridges.is_empty()
-            || !ls.extrema.is_empty()
-            || !ls.saddles.is_empty();
-        if critical {
-            out.push(c);
-        }
-    }
-    Ok(out)
 }
 
 /// The listed levels: every critical height and the midpoint between
@@ -292,7 +274,12 @@ pub fn answers(mesh: Mesh, snap: Option<&Rat>) -> Result<Answers, AnswerError> {
     let prepared = prepare(mesh, snap)?;
     let unit = prepared.unit.clone().unwrap_or_else(Rat::one);
     let slicer = Slicer::with_unit(&prepared.mesh, unit)?;
-    let critical = brute_force_critical_heights(&slicer)?;
+    let critical: Vec<Rat> = crate::critical::analyze(&slicer)
+        .map_err(|e| AnswerError::Critical(e.to_string()))?
+        .levels
+        .into_iter()
+        .map(|l| l.z)
+        .collect();
     let listed = listed_levels(&critical);
     let sets = listed
         .iter()
