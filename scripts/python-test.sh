@@ -11,7 +11,7 @@ if [ ! -x "$venv/bin/python" ]; then
   python3 -m venv "$venv"
 fi
 "$venv/bin/python" -m pip install -q --disable-pip-version-check \
-  "maturin>=1.9,<2" numpy pytest "dask[distributed]" trimesh "shapely>=2"
+  "maturin>=1.9,<2" numpy pytest "dask[distributed]" trimesh "shapely>=2" manifold3d scipy networkx
 # Built without build isolation: maturin is in the venv already (on PATH).
 export PATH="$(cd "$venv" && pwd)/bin:$PATH"
 "$venv/bin/python" -m pip install -q --disable-pip-version-check --no-build-isolation --force-reinstall --no-deps .

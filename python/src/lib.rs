@@ -12,6 +12,7 @@ mod batch;
 mod codec;
 mod core;
 mod errors;
+mod families;
 mod level;
 mod mesh;
 mod values;
@@ -33,6 +34,9 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(values::exact_value, m)?)?;
     m.add_function(wrap_pyfunction!(batch::slice_part, m)?)?;
     m.add_function(wrap_pyfunction!(batch::join_shards, m)?)?;
+    m.add_function(wrap_pyfunction!(families::family_names, m)?)?;
+    m.add_function(wrap_pyfunction!(families::family_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(families::family_answers, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

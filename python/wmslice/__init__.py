@@ -40,6 +40,9 @@ __all__ = [
     "dataset",
     "datasets",
     "exact_value",
+    "families",
+    "generate",
+    "answers",
 ]
 
 __version__ = _native.__version__
@@ -481,3 +484,23 @@ def datasets() -> list[tuple[str, str, list[Fraction]]]:
 
 
 from . import batch  # noqa: E402  (needs the names above)
+
+
+def families() -> list[tuple[str, str]]:
+    """The random adversarial families (``wmslice gen --families``): ``(name, what it exercises)``."""
+    return _native.family_names()
+
+
+def generate(family: str, seed: int) -> Mesh:
+    """The mesh of ``family`` for ``seed`` (deterministic), as its answers slice it
+    (snapped to the family's grid when it has one)."""
+    return Mesh._wrap(_native.family_mesh(family, seed))
+
+
+def answers(family: str, seed: int) -> dict:
+    """The exact answers for :func:`generate` (``wmslice gen --random SEED --family NAME
+    --answers FILE`` as a dict): every critical height and the midpoint between
+    consecutive ones, each with ``z`` (``'p/q'``), ``kind`` and its ``summary``."""
+    import json
+
+    return json.loads(_native.family_answers(family, seed))

@@ -118,7 +118,12 @@ pub struct GenArgs {
     pub families: bool,
     /// Write a random mesh of `--family` for this seed (deterministic:
     /// the same bytes on every machine and thread count).
-    #[arg(long, value_name = "SEED", requires = "family", conflicts_with = "name")]
+    #[arg(
+        long,
+        value_name = "SEED",
+        requires = "family",
+        conflicts_with = "name"
+    )]
     pub random: Option<u64>,
     /// The random family (see `--families`).
     #[arg(long, value_name = "NAME", requires = "random")]

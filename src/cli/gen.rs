@@ -33,8 +33,8 @@ pub fn run(a: GenArgs) -> Result<(), Failure> {
         // The answers first: nothing is written when they fail.
         let answers = match &a.answers {
             Some(path) => {
-                let answers = families::answers::answers(mesh.clone(), f.snap().as_ref())
-                    .map_err(|e| {
+                let answers =
+                    families::answers::answers(mesh.clone(), f.snap().as_ref()).map_err(|e| {
                         let code = match e {
                             AnswerError::Snap(_) => ExitCode::InvalidMesh,
                             _ => ExitCode::Internal,

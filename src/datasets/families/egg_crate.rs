@@ -12,12 +12,16 @@
 //! lowest point: closed, oriented and free of self-intersections by
 //! construction (see [`super::grid`]).
 
-use super::grid::{GridSlab, lines};
+use super::grid::{lines, GridSlab};
 use super::rng::Rng;
 use crate::mesh::Mesh;
 
 /// Periodic waves: a single peak per period, a flat-topped one, a tall one.
-const WAVES: [&[i64]; 3] = [&[0, 1, 0, -1], &[0, 1, 1, 0, -1, -1], &[0, 1, 2, 1, 0, -1, -2, -1]];
+const WAVES: [&[i64]; 3] = [
+    &[0, 1, 0, -1],
+    &[0, 1, 1, 0, -1, -1],
+    &[0, 1, 2, 1, 0, -1, -2, -1],
+];
 
 /// `Re((x + i y)^m)` for m = 2, 3, 4.
 fn harmonic(m: u32, x: i64, y: i64) -> i64 {
@@ -51,7 +55,11 @@ pub(super) fn build(rng: &mut Rng) -> Mesh {
     for _ in 0..rng.size(1, 3) {
         let (i, j) = (rng.size(1, nx - 1), rng.size(1, ny - 1));
         let (i, j) = if (i + j) % 2 == 0 { (i, j) } else { (i + 1, j) };
-        if i >= nx || centres.iter().any(|&(a, b)| a.abs_diff(i) < 4 && b.abs_diff(j) < 4) {
+        if i >= nx
+            || centres
+                .iter()
+                .any(|&(a, b)| a.abs_diff(i) < 4 && b.abs_diff(j) < 4)
+        {
             continue;
         }
         centres.push((i, j));
@@ -93,7 +101,16 @@ mod tests {
     /// one branch): 2m for m = 2, 3, 4.
     #[test]
     fn harmonics_alternate_2m_times_around_a_point() {
-        let ring = [(1, 0), (1, 1), (0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1), (1, -1)];
+        let ring = [
+            (1, 0),
+            (1, 1),
+            (0, 1),
+            (-1, 1),
+            (-1, 0),
+            (-1, -1),
+            (0, -1),
+            (1, -1),
+        ];
         for m in 2..=4 {
             let signs: Vec<i64> = ring
                 .iter()

@@ -34,7 +34,14 @@ const RINGS: [&[[f64; 2]]; 4] = [
         [-1.0, -2.0],
         [1.0, -2.0],
     ],
-    &[[2.0, 0.0], [1.0, 2.0], [-1.0, 2.0], [-2.0, 0.0], [-1.0, -2.0], [1.0, -2.0]],
+    &[
+        [2.0, 0.0],
+        [1.0, 2.0],
+        [-1.0, 2.0],
+        [-2.0, 0.0],
+        [-1.0, -2.0],
+        [1.0, -2.0],
+    ],
 ];
 
 /// Profile polygons `(s, t)`, counter-clockwise, `s >= 0` (shifted away
@@ -46,7 +53,14 @@ const PROFILES: [&[[f64; 2]]; 5] = [
     &[[1.0, 0.0], [2.0, 1.0], [1.0, 2.0], [0.0, 1.0]],
     &[[0.0, 0.0], [2.0, 0.0], [1.0, 2.0]],
     &[[0.0, 0.0], [3.0, 0.0], [2.0, 1.0], [1.0, 1.0]],
-    &[[1.0, 0.0], [2.0, 0.0], [3.0, 1.0], [2.0, 2.0], [1.0, 2.0], [0.0, 1.0]],
+    &[
+        [1.0, 0.0],
+        [2.0, 0.0],
+        [3.0, 1.0],
+        [2.0, 2.0],
+        [1.0, 2.0],
+        [0.0, 1.0],
+    ],
 ];
 
 /// Right-handed frames `(U, W, A)`: lying (axis z), upright (axis x or y).
@@ -92,7 +106,11 @@ fn arch(rng: &mut Rng) -> Mesh {
 /// Appends `part` to `out`, shifted so that its smallest x is `x0` and by
 /// `dz` up; returns its largest x after the shift.
 fn place(out: &mut Mesh, part: Mesh, x0: f64, dz: f64) -> f64 {
-    let min_x = part.positions.iter().map(|p| p[0]).fold(f64::INFINITY, f64::min);
+    let min_x = part
+        .positions
+        .iter()
+        .map(|p| p[0])
+        .fold(f64::INFINITY, f64::min);
     let dx = x0 - min_x;
     let base = out.positions.len() as u32;
     let mut max_x = x0;

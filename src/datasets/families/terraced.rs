@@ -54,7 +54,12 @@ fn remove_checkerboards(h: &mut [usize], nx: usize, ny: usize) {
         let mut changed = false;
         for j in 0..ny.saturating_sub(1) {
             for i in 0..nx.saturating_sub(1) {
-                let k = [j * nx + i, j * nx + i + 1, (j + 1) * nx + i + 1, (j + 1) * nx + i];
+                let k = [
+                    j * nx + i,
+                    j * nx + i + 1,
+                    (j + 1) * nx + i + 1,
+                    (j + 1) * nx + i,
+                ];
                 for (hi_pair, lo_pair) in [([0, 2], [1, 3]), ([1, 3], [0, 2])] {
                     let top = h[k[hi_pair[0]]].min(h[k[hi_pair[1]]]);
                     let low = h[k[lo_pair[0]]].max(h[k[lo_pair[1]]]);

@@ -137,7 +137,9 @@ impl Voxels {
     pub fn mesh(&self, xs: &[f64], ys: &[f64], zs: &[f64]) -> Mesh {
         debug_assert!(self.is_well_composed());
         let mut b = Builder::new();
-        b.voxels(xs, ys, zs, |i, j, k| self.get([i as i64, j as i64, k as i64]));
+        b.voxels(xs, ys, zs, |i, j, k| {
+            self.get([i as i64, j as i64, k as i64])
+        });
         b.finish()
     }
 }
