@@ -4,8 +4,7 @@
 
 use super::args::{CriticalArgs, CriticalFormat};
 use super::input::load_input;
-use super::{emit, slice_error, usage, ExitCode, Failure};
-use anyhow::anyhow;
+use super::{emit, slice_error, usage, worker_pool, ExitCode, Failure};
 use wmslice::critical::fit::PlanReport;
 use wmslice::critical::{self, CriticalReport};
 use wmslice::exact::parse_rational;
@@ -42,16 +41,7 @@ fn plan(
 
 /// Runs `critical`.
 pub fn run(a: CriticalArgs) -> Result<(), Failure> {
-    let threads = a
-        .threads
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| Failure {
-            code: ExitCode::Internal,
-            error: anyhow!("cannot start worker threads: {e}"),
-        })?;
+    let (_, pool) = worker_pool(a.threads)?;
     let input = pool.install(|| load_input(&a.mesh, a.snap.as_deref()))?;
     for n in &input.notes {
         eprintln!("note: {n}");

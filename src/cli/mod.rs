@@ -126,6 +126,20 @@ pub fn write_stdout(text: &str) -> Result<(), Failure> {
     }
 }
 
+/// The worker count (`--threads N`, default all cores) and a pool of them.
+pub fn worker_pool(threads: Option<usize>) -> Result<(usize, rayon::ThreadPool), Failure> {
+    let threads =
+        threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| Failure {
+            code: ExitCode::Internal,
+            error: anyhow!("cannot start worker threads: {e}"),
+        })?;
+    Ok((threads, pool))
+}
+
 /// A bad-arguments failure.
 pub fn usage(msg: String) -> Failure {
     Failure {

@@ -3,7 +3,7 @@
 
 use super::args::{Format, SliceArgs};
 use super::input::{load_input, Input};
-use super::{emit, slice_error, usage, ExitCode, Failure, Tag};
+use super::{emit, slice_error, usage, worker_pool, ExitCode, Failure, Tag};
 use anyhow::anyhow;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::{IsTerminal, Write};
@@ -156,17 +156,8 @@ fn sweep_error(e: SweepError<std::io::Error>) -> Failure {
 pub fn run(a: SliceArgs) -> Result<(), Failure> {
     let explicit = parse_levels(&a)?;
     let uniform = parse_uniform(&a)?;
-    let threads = a
-        .threads
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    // Welding and validation run on `threads` workers too.
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| Failure {
-            code: ExitCode::Internal,
-            error: anyhow::anyhow!("cannot start worker threads: {e}"),
-        })?;
+    // Welding and validation run on the workers too.
+    let (threads, pool) = worker_pool(a.threads)?;
     let loading = step("reading and welding the mesh", a.quiet);
     let input = pool.install(|| load_input(&a.mesh, a.snap.as_deref()));
     loading.finish_and_clear();

@@ -547,14 +547,7 @@ impl Sweep<'_> {
                 if arc == NIL {
                     return Err(self.internal(format!("a contour below {v} has no arc")));
                 }
-                let item = match ctx.lower_item.get(&arc) {
-                    Some(&it) => it,
-                    None => {
-                        let it = ctx.dsu.add();
-                        ctx.lower_item.insert(arc, it);
-                        it
-                    }
-                };
+                let item = *ctx.lower_item.entry(arc).or_insert_with(|| ctx.dsu.add());
                 ctx.dsu.union(i as u32, item);
             }
         }
@@ -579,14 +572,7 @@ impl Sweep<'_> {
                     return Err(self.internal(format!("edge {e} above {v} is on no contour")));
                 }
                 let (root, _) = self.seq.locate(e);
-                let item = match ctx.upper_item.get(&root) {
-                    Some(&it) => it,
-                    None => {
-                        let it = ctx.dsu.add();
-                        ctx.upper_item.insert(root, it);
-                        it
-                    }
-                };
+                let item = *ctx.upper_item.entry(root).or_insert_with(|| ctx.dsu.add());
                 ctx.dsu.union(i as u32, item);
             }
         }

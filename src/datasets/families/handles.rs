@@ -18,22 +18,14 @@ use super::grid::lines;
 use super::rng::Rng;
 use super::voxels::Voxels;
 use crate::datasets::build::{Builder, P3, X, Y, Z};
+use crate::datasets::shapes::OCTAGON;
 use crate::mesh::Mesh;
 
 /// Ring polygons, counter-clockwise about the axis.
 const RINGS: [&[[f64; 2]]; 4] = [
     &[[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]],
     &[[1.0, -1.0], [1.0, 1.0], [-1.0, 1.0], [-1.0, -1.0]],
-    &[
-        [2.0, -1.0],
-        [2.0, 1.0],
-        [1.0, 2.0],
-        [-1.0, 2.0],
-        [-2.0, 1.0],
-        [-2.0, -1.0],
-        [-1.0, -2.0],
-        [1.0, -2.0],
-    ],
+    &OCTAGON,
     &[
         [2.0, 0.0],
         [1.0, 2.0],
