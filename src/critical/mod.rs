@@ -6,9 +6,9 @@
 //!
 //! Everything is exact and decided without slicing at every vertex
 //! height: each vertex is classified from its link at its own height
-//! ([`link`], the rules of SPEC section 3), and one sweep over the vertices
+//! (`link.rs`, the rules of SPEC section 3), and one sweep over the vertices
 //! in height order keeps the contours as cyclic sequences of crossed edges
-//! in balanced trees ([`sequences`]), in `O(n log n)` expected time for
+//! in balanced trees (`sequences.rs`), in `O(n log n)` expected time for
 //! the whole mesh. Vertices at one height are processed together: a node
 //! of the Reeb graph is a whole connected component of a critical level
 //! set, never split by a tie-break (no simulation of simplicity).
