@@ -188,6 +188,45 @@ fn double_torus_reeb_graph_by_hand() {
     assert_eq!((r.reeb.cycles(), r.genus), (2, 2));
 }
 
+/// A lying torus with a flat top and bottom: the square annulus between
+/// `[-1, 1]^2` and `[-2, 2]^2`, from z = 0 to 1. Its bottom is one down
+/// flat (a node), its top one up flat; between them two wall loops,
+/// outside and inside: 2 plateau nodes, 2 arcs, one cycle = genus 1.
+#[test]
+fn flat_lying_torus_is_two_plateaus_and_two_arcs() {
+    let ring = |r: f64| [[-r, -r], [r, -r], [r, r], [-r, r]];
+    let mut pos = Vec::new();
+    for (r, z) in [(2.0, 0.0), (1.0, 0.0), (2.0, 1.0), (1.0, 1.0)] {
+        pos.extend(ring(r).iter().map(|p| [p[0], p[1], z]));
+    }
+    let (ob, ib, ot, it) = (
+        |k: usize| k % 4,
+        |k: usize| 4 + k % 4,
+        |k: usize| 8 + k % 4,
+        |k: usize| 12 + k % 4,
+    );
+    let mut faces = Vec::new();
+    for k in 0..4 {
+        for q in [
+            [ot(k), ot(k + 1), it(k + 1), it(k)],
+            [ob(k), ib(k), ib(k + 1), ob(k + 1)],
+            [ob(k), ob(k + 1), ot(k + 1), ot(k)],
+            [ib(k), it(k), it(k + 1), ib(k + 1)],
+        ] {
+            let q = q.map(|v| v as u32);
+            faces.push([q[0], q[1], q[2]]);
+            faces.push([q[0], q[2], q[3]]);
+        }
+    }
+    let r = report(&Mesh::from_raw(pos, faces));
+    assert_eq!(heights(&r), ["0", "1"]);
+    assert_eq!(kinds(&r), [NodeKind::Plateau, NodeKind::Plateau]);
+    assert_eq!(r.reeb.arcs, [[0, 1], [0, 1]]);
+    assert_eq!(loop_counts(&r), [(0, 2), (2, 0)]);
+    assert_eq!((r.levels[0].faces_down, r.levels[1].faces_up), (1, 1));
+    assert_eq!((r.reeb.cycles(), r.genus), (1, 1));
+}
+
 /// A box with a toroidal cavity: two components (the box, the cavity's
 /// torus). The box's bottom and top are plateaus joined by one arc; the
 /// cavity's valley ring (-1) and ridge ring (2) by two. Cycles
