@@ -24,6 +24,10 @@
 //!    arc. Any other component is one regular contour passing `c`: exactly
 //!    one contour below and one above (checked), which keep their arc.
 //!
+//! `epsilon` is symbolic, as in SPEC 6: "the contour at `c - epsilon`"
+//! is the set of edges crossed by every level just below `c`, and no
+//! number is ever added to a height or compared against a tolerance.
+//!
 //! Carrying the contours across a vertex `v` (step 3): with `v`'s
 //! neighbours in fan order split into maximal runs of lower (`R_k`) and
 //! upper (`U_k`) neighbours, alternating `R_1 U_1 R_2 U_2 ...`, the contour

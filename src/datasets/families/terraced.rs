@@ -21,7 +21,8 @@ use super::rng::Rng;
 use super::voxels::Voxels;
 use crate::mesh::Mesh;
 
-/// Grid steps, in thousandths of a millimetre.
+/// Terrace height steps, in thousandths of a millimetre (the decimals a
+/// CAD part is drawn with: 0.35, 1.25, 3.15 mm); geometry, not a tolerance.
 const STEPS: [i64; 9] = [350, 500, 800, 1200, 1250, 2000, 2500, 3150, 4000];
 
 /// Terrace heights, in thousandths of a millimetre.
