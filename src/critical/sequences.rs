@@ -6,10 +6,14 @@
 //! This is the data structure of Cole-McLean, Edelsbrunner, Harer,
 //! Natarajan and Pascucci, "Loops in Reeb graphs of 2-manifolds" (2003):
 //! each contour of the sweep is a cyclic sequence of the edges it crosses,
-//! stored as one tree. A node is an edge id; an edge is in at most one
-//! sequence at a time. Priorities are a fixed hash of the edge id, so the
-//! trees (and everything computed from them) are deterministic. Every
-//! operation is iterative: no recursion, whatever the depth.
+//! stored as one tree. An edge is in at most one sequence at a time. Tree
+//! nodes are a pool separate from the edges, so that the common step of
+//! the sweep, a run of edges replaced by another run in place
+//! ([`Sequences::replace_run`]), relabels nodes instead of rebuilding the
+//! tree. Priorities are a fixed hash of the node id and nodes are taken
+//! from the pool in a fixed order, so the trees (and everything computed
+//! from them) are deterministic. Every operation is iterative: no
+//! recursion, whatever the depth.
 //!
 //! Nothing here reads a coordinate.
 
@@ -23,9 +27,11 @@ struct Node {
     left: u32,
     right: u32,
     parent: u32,
-    /// Nodes in the subtree; 0 when the edge is in no sequence.
+    /// Nodes in the subtree.
     size: u32,
     priority: u32,
+    /// The edge this node holds.
+    edge: u32,
     /// A tag kept at roots (the sweep stores the contour's Reeb arc here).
     tag: u32,
 }
@@ -33,9 +39,24 @@ struct Node {
 /// A forest of sequences of edges.
 pub(super) struct Sequences {
     nodes: Vec<Node>,
+    /// The node holding each edge, `NIL` when the edge is in no sequence.
+    node_of: Vec<u32>,
+    /// Released nodes, reused first.
+    free: Vec<u32>,
+    /// Scratch of [`Sequences::replace_run`].
+    run: Vec<u32>,
 }
 
-/// The finalizer of SplitMix64: a fixed, well-mixed priority per edge.
+/// Why [`Sequences::replace_run`] refused.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum ReplaceError {
+    /// The old edges are not consecutive (cyclically) in one sequence.
+    NotARun,
+    /// A new edge already is in a sequence.
+    InUse,
+}
+
+/// The finalizer of SplitMix64: a fixed, well-mixed priority per node.
 fn priority(e: u32) -> u32 {
     let mut z = u64::from(e).wrapping_add(0x9e37_79b9_7f4a_7c15);
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
@@ -46,17 +67,12 @@ fn priority(e: u32) -> u32 {
 impl Sequences {
     /// Room for edges `0..edges`, none in a sequence.
     pub(super) fn new(edges: usize) -> Self {
-        let nodes = (0..edges)
-            .map(|e| Node {
-                left: NIL,
-                right: NIL,
-                parent: NIL,
-                size: 0,
-                priority: priority(e as u32),
-                tag: NIL,
-            })
-            .collect();
-        Sequences { nodes }
+        Sequences {
+            nodes: Vec::new(),
+            node_of: vec![NIL; edges],
+            free: Vec::new(),
+            run: Vec::new(),
+        }
     }
 
     #[inline]
@@ -83,7 +99,7 @@ impl Sequences {
     /// Whether edge `e` is in a sequence.
     #[inline]
     pub(super) fn contains(&self, e: EdgeId) -> bool {
-        self.nodes[e.idx()].size > 0
+        self.node_of[e.idx()] != NIL
     }
 
     /// Number of edges in the sequence whose root is `t`.
@@ -94,21 +110,37 @@ impl Sequences {
 
     /// A one-edge sequence; `None` when the edge already is in one.
     pub(super) fn single(&mut self, e: EdgeId) -> Option<u32> {
-        let n = &mut self.nodes[e.idx()];
-        if n.size != 0 {
+        if self.node_of[e.idx()] != NIL {
             return None;
         }
-        n.left = NIL;
-        n.right = NIL;
-        n.parent = NIL;
-        n.size = 1;
-        n.tag = NIL;
-        Some(e.0)
+        let fresh = |id: u32| Node {
+            left: NIL,
+            right: NIL,
+            parent: NIL,
+            size: 1,
+            priority: priority(id),
+            edge: e.0,
+            tag: NIL,
+        };
+        let x = match self.free.pop() {
+            Some(x) => {
+                self.nodes[x as usize] = fresh(x);
+                x
+            }
+            None => {
+                let x = self.nodes.len() as u32;
+                self.nodes.push(fresh(x));
+                x
+            }
+        };
+        self.node_of[e.idx()] = x;
+        Some(x)
     }
 
-    /// The root of the sequence holding `e` and the position of `e` in it.
+    /// The root of the sequence holding `e` (which must be in one) and the
+    /// position of `e` in it.
     pub(super) fn locate(&self, e: EdgeId) -> (u32, u32) {
-        let mut x = e.0;
+        let mut x = self.node_of[e.idx()];
         let mut pos = self.size(self.nodes[x as usize].left);
         loop {
             let p = self.nodes[x as usize].parent;
@@ -134,12 +166,16 @@ impl Sequences {
         self.nodes[t as usize].tag = tag;
     }
 
-    /// The first edge of the sequence rooted at `t` (`t != NIL`).
-    pub(super) fn first(&self, mut t: u32) -> u32 {
+    fn leftmost(&self, mut t: u32) -> u32 {
         while self.nodes[t as usize].left != NIL {
             t = self.nodes[t as usize].left;
         }
         t
+    }
+
+    /// The first edge of the sequence rooted at `t` (`t != NIL`).
+    pub(super) fn first(&self, t: u32) -> u32 {
+        self.nodes[self.leftmost(t) as usize].edge
     }
 
     /// The last edge of the sequence rooted at `t` (`t != NIL`).
@@ -147,7 +183,162 @@ impl Sequences {
         while self.nodes[t as usize].right != NIL {
             t = self.nodes[t as usize].right;
         }
-        t
+        self.nodes[t as usize].edge
+    }
+
+    /// The node after `x` in its sequence, read cyclically (the first
+    /// after the last).
+    fn next_cyclic(&self, mut x: u32) -> u32 {
+        let right = self.nodes[x as usize].right;
+        if right != NIL {
+            return self.leftmost(right);
+        }
+        loop {
+            let p = self.nodes[x as usize].parent;
+            if p == NIL {
+                return self.leftmost(x);
+            }
+            if self.nodes[p as usize].left == x {
+                return p;
+            }
+            x = p;
+        }
+    }
+
+    /// Moves `y` above its parent (a tree rotation); the parent's tag goes
+    /// with the root.
+    fn rotate_up(&mut self, y: u32) {
+        let p = self.nodes[y as usize].parent;
+        let g = self.nodes[p as usize].parent;
+        if self.nodes[p as usize].left == y {
+            let b = self.nodes[y as usize].right;
+            self.nodes[p as usize].left = b;
+            if b != NIL {
+                self.nodes[b as usize].parent = p;
+            }
+            self.nodes[y as usize].right = p;
+        } else {
+            let b = self.nodes[y as usize].left;
+            self.nodes[p as usize].right = b;
+            if b != NIL {
+                self.nodes[b as usize].parent = p;
+            }
+            self.nodes[y as usize].left = p;
+        }
+        self.nodes[p as usize].parent = y;
+        self.nodes[y as usize].parent = g;
+        if g == NIL {
+            self.nodes[y as usize].tag = self.nodes[p as usize].tag;
+        } else if self.nodes[g as usize].left == p {
+            self.nodes[g as usize].left = y;
+        } else {
+            self.nodes[g as usize].right = y;
+        }
+        self.update(p);
+        self.update(y);
+    }
+
+    /// Inserts edge `e` right after node `x`; returns its node.
+    fn insert_after(&mut self, x: u32, e: EdgeId) -> Option<u32> {
+        let y = self.single(e)?;
+        let right = self.nodes[x as usize].right;
+        let p = if right == NIL {
+            self.nodes[x as usize].right = y;
+            x
+        } else {
+            let p = self.leftmost(right);
+            self.nodes[p as usize].left = y;
+            p
+        };
+        self.nodes[y as usize].parent = p;
+        let mut a = p;
+        while a != NIL {
+            self.nodes[a as usize].size += 1;
+            a = self.nodes[a as usize].parent;
+        }
+        while self.nodes[y as usize].parent != NIL && self.above(y, self.nodes[y as usize].parent) {
+            self.rotate_up(y);
+        }
+        Some(y)
+    }
+
+    /// Removes node `x` (not the only node of its sequence) and frees it.
+    fn remove(&mut self, x: u32) {
+        loop {
+            let Node { left, right, .. } = self.nodes[x as usize];
+            let c = match (left, right) {
+                (NIL, NIL) => break,
+                (NIL, c) | (c, NIL) => c,
+                (l, r) if self.above(l, r) => l,
+                (_, r) => r,
+            };
+            self.rotate_up(c);
+        }
+        let p = self.nodes[x as usize].parent;
+        if self.nodes[p as usize].left == x {
+            self.nodes[p as usize].left = NIL;
+        } else {
+            self.nodes[p as usize].right = NIL;
+        }
+        let mut a = p;
+        while a != NIL {
+            self.nodes[a as usize].size -= 1;
+            a = self.nodes[a as usize].parent;
+        }
+        let edge = self.nodes[x as usize].edge;
+        if self.node_of[edge as usize] == x {
+            self.node_of[edge as usize] = NIL;
+        }
+        self.free.push(x);
+    }
+
+    /// Replaces the run `old` (edges consecutive in this order, cyclically,
+    /// in one sequence) by the edges `new`, in place: the sequence keeps its
+    /// tag and every other edge its neighbours. `old` and `new` are not
+    /// empty and share no edge.
+    pub(super) fn replace_run(
+        &mut self,
+        old: &[EdgeId],
+        new: &[EdgeId],
+    ) -> Result<(), ReplaceError> {
+        let mut run = std::mem::take(&mut self.run);
+        run.clear();
+        let mut x = self.node_of[old[0].idx()];
+        for (i, e) in old.iter().enumerate() {
+            if i > 0 {
+                x = self.next_cyclic(x);
+            }
+            if x == NIL || self.nodes[x as usize].edge != e.0 {
+                self.run = run;
+                return Err(ReplaceError::NotARun);
+            }
+            run.push(x);
+        }
+        for e in old {
+            self.node_of[e.idx()] = NIL;
+        }
+        let result = self.relabel(&run, new);
+        self.run = run;
+        result
+    }
+
+    fn relabel(&mut self, run: &[u32], new: &[EdgeId]) -> Result<(), ReplaceError> {
+        let common = run.len().min(new.len());
+        for (&x, e) in run.iter().zip(new) {
+            if self.node_of[e.idx()] != NIL {
+                return Err(ReplaceError::InUse);
+            }
+            self.node_of[e.idx()] = x;
+            self.nodes[x as usize].edge = e.0;
+        }
+        let mut last = run[common - 1];
+        for &e in &new[common..] {
+            last = self.insert_after(last, e).ok_or(ReplaceError::InUse)?;
+        }
+        for &x in &run[common..] {
+            self.remove(x);
+        }
+        Ok(())
     }
 
     /// The concatenation of the sequences rooted at `a` and `b` (either may
@@ -256,8 +447,8 @@ impl Sequences {
         (lroot, rroot)
     }
 
-    /// The edges of the sequence rooted at `t`, in order, appended to `out`.
-    pub(super) fn collect(&self, t: u32, out: &mut Vec<u32>) {
+    /// The nodes of the tree rooted at `t`, in order, appended to `out`.
+    fn collect_nodes(&self, t: u32, out: &mut Vec<u32>) {
         let mut stack: Vec<u32> = Vec::new();
         let mut cur = t;
         while cur != NIL || !stack.is_empty() {
@@ -272,17 +463,23 @@ impl Sequences {
         }
     }
 
+    /// The edges of the sequence rooted at `t`, in order, appended to `out`.
+    pub(super) fn collect(&self, t: u32, out: &mut Vec<u32>) {
+        let from = out.len();
+        self.collect_nodes(t, out);
+        for x in &mut out[from..] {
+            *x = self.nodes[*x as usize].edge;
+        }
+    }
+
     /// Removes every edge of the sequence rooted at `t` from the forest.
     pub(super) fn release(&mut self, t: u32, scratch: &mut Vec<u32>) {
         scratch.clear();
-        self.collect(t, scratch);
+        self.collect_nodes(t, scratch);
         for &x in scratch.iter() {
-            let n = &mut self.nodes[x as usize];
-            n.size = 0;
-            n.left = NIL;
-            n.right = NIL;
-            n.parent = NIL;
-            n.tag = NIL;
+            let edge = self.nodes[x as usize].edge;
+            self.node_of[edge as usize] = NIL;
+            self.free.push(x);
         }
     }
 
@@ -366,5 +563,92 @@ mod tests {
         assert_eq!((root, pos), (both, n - 10));
         assert_eq!(s.first(both), want[0]);
         assert_eq!(s.last(both), freed[0]);
+    }
+
+    /// The cyclic sequence holding `e`, read from `e`.
+    fn cycle_from(s: &Sequences, e: u32) -> Vec<u32> {
+        let (root, pos) = s.locate(EdgeId(e));
+        let mut v = seq(s, root);
+        v.rotate_left(pos as usize);
+        v
+    }
+
+    #[test]
+    fn replace_run_agrees_with_a_vector_and_keeps_the_tag() {
+        let edges = 400u32;
+        let mut s = Sequences::new(edges as usize);
+        let mut model: Vec<u32> = (0..40).collect();
+        let t = s.build(model.iter().map(|&e| EdgeId(e))).unwrap();
+        s.set_tag(t, 7);
+        let mut state = 1u64;
+        let mut rand = |n: usize| {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1);
+            ((state >> 33) as usize) % n
+        };
+        for step in 0..3000 {
+            let len = model.len();
+            let p = rand(len);
+            let r = 1 + rand(len.min(6));
+            let u = 1 + rand(6);
+            let old: Vec<u32> = (0..r).map(|i| model[(p + i) % len]).collect();
+            let free: Vec<u32> = (0..edges).filter(|e| !model.contains(e)).collect();
+            let start = rand(free.len() - u);
+            let new: Vec<u32> = free[start..start + u].to_vec();
+            let old_ids: Vec<EdgeId> = old.iter().map(|&e| EdgeId(e)).collect();
+            let new_ids: Vec<EdgeId> = new.iter().map(|&e| EdgeId(e)).collect();
+            assert_eq!(s.replace_run(&old_ids, &new_ids), Ok(()), "step {step}");
+            // The model: rotate the run to the front, swap it for `new`.
+            model.rotate_left(p);
+            model.splice(0..r, new.iter().copied());
+            assert_eq!(cycle_from(&s, new[0]), model, "step {step}");
+            let (root, _) = s.locate(EdgeId(new[0]));
+            check(&s, root);
+            assert_eq!(s.tag(root), 7, "step {step}");
+            for &e in &old {
+                assert!(!s.contains(EdgeId(e)));
+            }
+            // Keep the sequence between 10 and 60 edges.
+            if model.len() > 60 || model.len() < 10 {
+                let keep = if model.len() > 60 { 30 } else { model.len() };
+                let (root, _) = s.locate(EdgeId(model[0]));
+                let mut scratch = Vec::new();
+                s.release(root, &mut scratch);
+                model.truncate(keep);
+                while model.len() < 10 {
+                    let e = (0..edges).find(|e| !model.contains(e)).unwrap();
+                    model.push(e);
+                }
+                let t = s.build(model.iter().map(|&e| EdgeId(e))).unwrap();
+                s.set_tag(t, 7);
+            }
+        }
+    }
+
+    #[test]
+    fn replace_run_refuses_a_broken_run_and_an_edge_in_use() {
+        let mut s = Sequences::new(20);
+        let t = s.build((0..10).map(EdgeId)).unwrap();
+        let other = s.build((10..12).map(EdgeId)).unwrap();
+        assert_ne!(t, other);
+        let ids = |v: &[u32]| v.iter().map(|&e| EdgeId(e)).collect::<Vec<_>>();
+        assert_eq!(
+            s.replace_run(&ids(&[3, 5]), &ids(&[15])),
+            Err(ReplaceError::NotARun)
+        );
+        assert_eq!(
+            s.replace_run(&ids(&[9, 10]), &ids(&[15])),
+            Err(ReplaceError::NotARun)
+        );
+        assert_eq!(
+            s.replace_run(&ids(&[3, 4]), &ids(&[11])),
+            Err(ReplaceError::InUse)
+        );
+        // A run may wrap around the end of the sequence.
+        let mut s = Sequences::new(20);
+        s.build((0..10).map(EdgeId)).unwrap();
+        assert_eq!(s.replace_run(&ids(&[9, 0, 1]), &ids(&[15, 16])), Ok(()));
+        assert_eq!(cycle_from(&s, 15), [15, 16, 2, 3, 4, 5, 6, 7, 8]);
     }
 }

@@ -42,10 +42,18 @@
 //! step is checked against the mesh (a piece holds exactly its run's
 //! edges, a path starts and ends at the expected link edges); a failed
 //! check is an internal error.
+//!
+//! With one run of each (`R_1 U_1`: every regular vertex with no
+//! neighbour at its height, nearly all of a mesh), the path is the rest of
+//! the contour, unchanged: `R_1` is replaced by `U_1` reversed in place
+//! ([`Sequences::replace_run`], checked to be consecutive in fan order),
+//! and the contour keeps its tree and its arc. Only the heights that hold
+//! a vertex with another link pattern, or with a neighbour at its height,
+//! go through classification, components and the general splice.
 
 use super::link::{classify_vertex, face_edge, AtLevel, InPlane};
 use super::reeb::{NodeKind, ReebGraph, ReebNode};
-use super::sequences::{Sequences, NIL};
+use super::sequences::{ReplaceError, Sequences, NIL};
 use super::{CriticalError, CriticalLevel};
 use crate::classify::{ExtremumKind, Facing, RidgeKind};
 use crate::exact::rational::{rat_from_f64, rat_to_string, Rat};
@@ -138,6 +146,9 @@ struct PassScratch {
     path_after: Vec<u32>,
     next_piece: Vec<usize>,
     done: Vec<bool>,
+    /// The edges a single run replaces, and those it puts in their place.
+    old: Vec<EdgeId>,
+    new: Vec<EdgeId>,
 }
 
 impl<'a> Sweep<'a> {
@@ -198,16 +209,22 @@ impl<'a> Sweep<'a> {
 
     /// Carries the contours across `v` (see the module documentation).
     fn pass(&mut self, v: VertexId) -> Result<(), CriticalError> {
-        let fan = self.topo.fan(v);
-        let k = fan.len();
         let mut sc = std::mem::take(&mut self.pass_scratch);
-        sc.lower.clear();
-        sc.lower
-            .extend(fan.iter().map(|e| self.is_lower(e.neighbour, v)));
+        self.lower_flags(v, &mut sc.lower);
         let result = self.pass_with(v, &mut sc);
         self.pass_scratch = sc;
-        debug_assert!(k > 0);
         result
+    }
+
+    /// Which neighbours of `v` in fan order come before it in the sweep.
+    fn lower_flags(&self, v: VertexId, out: &mut Vec<bool>) {
+        out.clear();
+        out.extend(
+            self.topo
+                .fan(v)
+                .iter()
+                .map(|e| self.is_lower(e.neighbour, v)),
+        );
     }
 
     fn pass_with(&mut self, v: VertexId, sc: &mut PassScratch) -> Result<(), CriticalError> {
@@ -251,6 +268,9 @@ impl<'a> Sweep<'a> {
         if u_runs.len() != r {
             return Err(self.internal(format!("unbalanced runs at {v}")));
         }
+        if r == 1 {
+            return self.replace(v, r_runs[0], u_runs[0], sc);
+        }
         // Align: U_j starts right after R_j ends.
         let first_u_start = (r_runs[0].start + r_runs[0].len) % k;
         let shift = u_runs
@@ -262,6 +282,36 @@ impl<'a> Sweep<'a> {
         sc.runs
             .extend(sc.r_runs.iter().copied().zip(sc.u_runs.iter().copied()));
         self.reconnect(v, sc)
+    }
+
+    /// One run of lower and one of upper neighbours: the contour below `v`
+    /// crosses the lower edges in fan order, and just above `v` the upper
+    /// edges in reverse fan order take their place; the rest of the
+    /// contour, and its arc, stay as they are.
+    fn replace(
+        &mut self,
+        v: VertexId,
+        lower: Run,
+        upper: Run,
+        sc: &mut PassScratch,
+    ) -> Result<(), CriticalError> {
+        let fan = self.topo.fan(v);
+        let k = fan.len();
+        sc.old.clear();
+        sc.old
+            .extend((0..lower.len).map(|i| fan[(lower.start + i) % k].edge));
+        sc.new.clear();
+        sc.new.extend(
+            (0..upper.len)
+                .rev()
+                .map(|i| fan[(upper.start + i) % k].edge),
+        );
+        self.seq.replace_run(&sc.old, &sc.new).map_err(|e| match e {
+            ReplaceError::NotARun => self.internal(format!(
+                "the contour below {v} does not cross its lower edges in fan order"
+            )),
+            ReplaceError::InUse => self.internal(format!("an upper edge of {v} is in use")),
+        })
     }
 
     fn reconnect(&mut self, v: VertexId, sc: &mut PassScratch) -> Result<(), CriticalError> {
@@ -510,6 +560,9 @@ impl Sweep<'_> {
     ) -> Result<(), CriticalError> {
         let g = group.len();
         let local = |rank: &[u32], v: VertexId| rank[v.idx()] as usize - first_rank;
+        if self.pass_if_regular(group)? {
+            return Ok(());
+        }
         // 1. Classify.
         ctx.at.clear();
         ctx.inplane.clear();
@@ -527,9 +580,6 @@ impl Sweep<'_> {
         }
         self.signs = signs;
         let critical = ctx.at.iter().any(AtLevel::is_critical);
-        if g == 1 && !critical {
-            return self.pass_regular(VertexId(group[0]));
-        }
         // 2. Components: vertices, then contours below and above.
         ctx.dsu.reset(g);
         ctx.lower_item.clear();
@@ -634,36 +684,50 @@ impl Sweep<'_> {
         self.make_nodes(group, ctx, &comps, &node_comps)
     }
 
-    /// The common case, a vertex alone at its height and not critical: no
-    /// neighbour at its height and at most two sign changes around it, so
-    /// exactly one run of lower and one of upper neighbours (a vertex with
-    /// a neighbour on each side of the plane has both). Its contour passes
-    /// with its arc; no components are needed.
-    fn pass_regular(&mut self, v: VertexId) -> Result<(), CriticalError> {
-        let fan = self.topo.fan(v);
+    /// The common case: every vertex of `group` is regular and has no
+    /// neighbour at its height. Then each one has exactly one run of lower
+    /// and one of upper neighbours, its contour passes in place
+    /// ([`Self::replace`]) and keeps its arc, and no components are needed:
+    /// the vertices are passed and `true` returned. Otherwise nothing is
+    /// done and `false` returned.
+    fn pass_if_regular(&mut self, group: &[u32]) -> Result<bool, CriticalError> {
+        let mut sc = std::mem::take(&mut self.pass_scratch);
+        let regular = group
+            .iter()
+            .all(|&v| self.regular_alone(VertexId(v), &mut sc.lower));
+        let mut result = Ok(regular);
+        if regular {
+            for (i, &v) in group.iter().enumerate() {
+                if i > 0 || group.len() > 1 {
+                    self.regular_alone(VertexId(v), &mut sc.lower);
+                }
+                if let Err(e) = self.pass_with(VertexId(v), &mut sc) {
+                    result = Err(e);
+                    break;
+                }
+            }
+        }
+        self.pass_scratch = sc;
+        result
+    }
+
+    /// Whether `v` has no neighbour at its height and is regular: the signs
+    /// of its neighbours change exactly twice around it (SPEC section 3:
+    /// not in F, on no S_NO edge, no extremum, two S_O branches). Leaves in
+    /// `lower` which neighbours are below it, which then are exactly those
+    /// before it in the sweep.
+    fn regular_alone(&self, v: VertexId, lower: &mut Vec<bool>) -> bool {
         let z = self.z;
-        let below = fan.iter().find(|e| self.mesh.pos(e.neighbour)[2] < z);
-        let Some(below) = below.map(|e| e.edge) else {
-            return Err(self.internal(format!("regular {v} has no lower neighbour")));
-        };
-        if !self.seq.contains(below) {
-            return Err(self.internal(format!("edge {below} below {v} is on no contour")));
+        lower.clear();
+        for e in self.topo.fan(v) {
+            let h = self.mesh.pos(e.neighbour)[2];
+            if h == z {
+                return false;
+            }
+            lower.push(h < z);
         }
-        let arc = self.seq.tag(self.seq.locate(below).0);
-        if arc == NIL {
-            return Err(self.internal(format!("a contour below {v} has no arc")));
-        }
-        self.pass(v)?;
-        let above = fan.iter().find(|e| self.mesh.pos(e.neighbour)[2] > z);
-        let Some(above) = above.map(|e| e.edge) else {
-            return Err(self.internal(format!("regular {v} has no upper neighbour")));
-        };
-        if !self.seq.contains(above) {
-            return Err(self.internal(format!("edge {above} above {v} is on no contour")));
-        }
-        let root = self.seq.locate(above).0;
-        self.seq.set_tag(root, arc);
-        Ok(())
+        let k = lower.len();
+        (0..k).filter(|&i| lower[i] != lower[(i + 1) % k]).count() == 2
     }
 
     /// Creates the nodes of the current height from its critical
