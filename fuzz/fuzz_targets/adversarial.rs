@@ -6,12 +6,15 @@
 //! Output: nothing; panics on a bug. The mesh must be refused by name
 //! (degenerate faces repaired first, as the CLI does), or sliced at every
 //! vertex height and between with every invariant of SPEC section 7
-//! (`check_level_invariants`). An internal error on an accepted mesh is
-//! the failure this target exists to find.
+//! (`check_level_invariants`), and its critical values
+//! (`critical::analyze`) must equal the slow path's (the full level set
+//! at every vertex height, `critical::brute_force`). An internal error on
+//! an accepted mesh is the failure this target exists to find.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
 use std::borrow::Cow;
+use wmslice::critical::{analyze, brute_force};
 use wmslice::datasets::slab::{heights_and_midpoints, Slab};
 use wmslice::exact::predicates::is_degenerate_triangle;
 use wmslice::ids::VertexId;
@@ -116,5 +119,16 @@ fuzz_target!(|data: &[u8]| {
         if let Err(e) = check_level_invariants(&mesh, slicer.topology(), &ls) {
             panic!("invariant violated at {c}: {e}\n{mesh:?}");
         }
+    }
+    let report = match analyze(&slicer) {
+        Ok(r) => r,
+        Err(e) => panic!("critical values of an accepted mesh: {e}\n{mesh:?}"),
+    };
+    match brute_force::classify_all(&slicer) {
+        Ok(slow) => assert!(
+            report.levels == slow,
+            "critical values differ from the slow path\n{mesh:?}"
+        ),
+        Err(e) => panic!("internal error on an accepted mesh (slow path): {e}\n{mesh:?}"),
     }
 });
