@@ -9,6 +9,11 @@
 //!   at every `k * 1.25`): one layer at a flat, and a 1000-layer sweep
 //!   (`layers::slice_levels`, one thread, levels `k * 0.125`, so every
 //!   tenth level lies on the flats);
+//! - `critical_100k`: `critical::analyze` (critical heights and the Reeb
+//!   graph) on three coordinate patterns of about 100 000 triangles: the
+//!   torus centred at the origin in `f32` (nearly every height shared by a
+//!   mirrored pair of vertices), the knot with six-decimal coordinates, and
+//!   the stepped part (large flats).
 //!
 //! ```sh
 //! cargo bench --bench kernel                  # about two minutes
@@ -99,5 +104,30 @@ fn steps(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, torus, steps);
+fn critical(c: &mut Criterion) {
+    let meshes = [
+        (
+            "torus_origin_f32",
+            meshgen::torus_origin_of(100_000).to_mesh(),
+        ),
+        (
+            "knot_decimal",
+            meshgen::knot_of(100_000).rounded_to_decimals(6).to_mesh(),
+        ),
+        ("steps", meshgen::steps_of(100_000).to_mesh()),
+    ];
+    let mut g = c.benchmark_group("critical_100k");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(3));
+    for (name, mesh) in &meshes {
+        let slicer = Slicer::new(mesh).expect("a valid closed mesh");
+        g.bench_function(*name, |b| {
+            b.iter(|| black_box(wmslice::critical::analyze(black_box(&slicer)).expect("analysis")))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, torus, steps, critical);
 criterion_main!(benches);
