@@ -8,6 +8,7 @@ use crate::exact::rational::{rat_to_f64, rat_to_string, Rat};
 use crate::levelset::{LevelSet, Loop};
 use crate::nest::Role;
 use std::fmt::Write;
+use std::sync::Arc;
 
 fn area_text(a: &Rat) -> String {
     format!("{} (~{})", rat_to_string(a), rat_to_f64(a))
@@ -56,11 +57,21 @@ pub fn summary(ls: &LevelSet) -> String {
         rat_to_string(&ls.level),
         rat_to_f64(&ls.level)
     );
+    // L- and L+ share S_O's loops when no vertex lies on the plane: their
+    // area is then computed once.
+    let contours_area = loops_area_text(&ls.contours);
+    let area_of = |loops: &Arc<Vec<Loop>>| {
+        if Arc::ptr_eq(loops, &ls.contours) {
+            contours_area.clone()
+        } else {
+            loops_area_text(loops)
+        }
+    };
     let _ = writeln!(
         s,
         "  contours S_O : {} loops ({o} outer, {h} hole), area {}",
         ls.contours.len(),
-        loops_area_text(&ls.contours)
+        contours_area
     );
     let count = |f: Facing| ls.regions.iter().filter(|r| r.facing == f).count();
     let _ = writeln!(
@@ -114,7 +125,7 @@ pub fn summary(ls: &LevelSet) -> String {
             .collect();
         let _ = writeln!(s, "  saddles      : {}", list.join(", "));
     }
-    let limit = |loops: &[Loop]| {
+    let limit = |loops: &Arc<Vec<Loop>>| {
         let (outer, hole) = roles(loops);
         let collapsed = loops.iter().filter(|l| l.collapsed).count();
         let note = if collapsed > 0 {
@@ -125,7 +136,7 @@ pub fn summary(ls: &LevelSet) -> String {
         format!(
             "{} loops ({outer} outer, {hole} hole{note}), area {}",
             loops.len(),
-            loops_area_text(loops)
+            area_of(loops)
         )
     };
     let _ = writeln!(s, "  below L-     : {}", limit(&ls.below));
@@ -157,6 +168,30 @@ mod tests {
                 }
             })
             .collect()
+    }
+
+    /// The unit cube, by hand: at z = 1/2 the three contours are one square
+    /// of area 1 (S_O's loops shared with L- and L+); at the top, z = 1,
+    /// S_O is empty, L- the top square (area 1) and L+ empty.
+    #[test]
+    fn each_family_prints_its_own_area() {
+        let mesh = crate::datasets::by_name("unit_cube").unwrap().build();
+        let slicer = crate::Slicer::new(&mesh).unwrap();
+        let line = |text: &str, key: &str| {
+            let l = text.lines().find(|l| l.contains(key)).unwrap().to_string();
+            l.split("area ").nth(1).unwrap().to_string()
+        };
+        let mid = slicer.slice_at(&Rat::new(1.into(), 2.into())).unwrap();
+        assert!(Arc::ptr_eq(&mid.below, &mid.contours) && Arc::ptr_eq(&mid.above, &mid.contours));
+        let text = summary(&mid);
+        for key in ["S_O", "L-", "L+"] {
+            assert_eq!(line(&text, key), "1 (~1)", "{key} in\n{text}");
+        }
+        let top = slicer.slice_at(&Rat::from_integer(1.into())).unwrap();
+        let text = summary(&top);
+        assert_eq!(line(&text, "S_O"), "0 (~0)", "{text}");
+        assert_eq!(line(&text, "L-"), "1 (~1)", "{text}");
+        assert_eq!(line(&text, "L+"), "0 (~0)", "{text}");
     }
 
     #[test]
