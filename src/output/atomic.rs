@@ -1,5 +1,8 @@
 //! Input: bytes and a target path. Output: the file, written whole or not
-//! at all: a temporary file in the target directory, then a rename.
+//! at all: a temporary file in the target directory, then a rename. A
+//! target that exists and is not a regular file (`/dev/null`, a terminal,
+//! a named pipe, `/dev/stdout`) is written in place instead: renaming over
+//! it would replace a device with a file.
 //!
 //! On Linux a large output goes to the disk straight from aligned 4 MB
 //! buffers (`O_DIRECT`) where the file system allows it, written by a
@@ -22,10 +25,31 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     f.commit()
 }
 
+/// The target opened for writing in place when it exists and is not a
+/// regular file or a directory (a device, a pipe or a socket; symbolic
+/// links followed).
+fn special_target(path: &Path) -> std::io::Result<Option<std::fs::File>> {
+    match std::fs::metadata(path) {
+        Ok(m) if !m.is_file() && !m.is_dir() => {
+            std::fs::OpenOptions::new().write(true).open(path).map(Some)
+        }
+        _ => Ok(None),
+    }
+}
+
 /// A file being written: a temporary file in the target directory that
 /// becomes `path` only on [`AtomicFile::commit`]. Dropped uncommitted, it
-/// vanishes.
-pub struct AtomicFile {
+/// vanishes. A target that is not a regular file (a device, a pipe) is
+/// written in place (see the module documentation).
+pub struct AtomicFile(Target);
+
+enum Target {
+    Temporary(TempTarget),
+    InPlace(std::fs::File),
+}
+
+/// The temporary file and where it goes.
+struct TempTarget {
     tmp: tempfile::NamedTempFile,
     path: std::path::PathBuf,
     /// Bytes written so far.
@@ -39,6 +63,39 @@ pub struct AtomicFile {
 impl AtomicFile {
     /// Starts writing `path` (parent directories are created).
     pub fn create(path: &Path) -> std::io::Result<Self> {
+        if let Some(f) = special_target(path)? {
+            return Ok(AtomicFile(Target::InPlace(f)));
+        }
+        TempTarget::create(path).map(|t| AtomicFile(Target::Temporary(t)))
+    }
+
+    /// Flushes and renames the file into place, readable by others like a
+    /// file the user created (temporary files start owner-only).
+    pub fn commit(self) -> std::io::Result<()> {
+        match self.0 {
+            Target::Temporary(t) => t.commit(),
+            Target::InPlace(mut f) => f.flush(),
+        }
+    }
+}
+
+impl Write for AtomicFile {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        match &mut self.0 {
+            Target::Temporary(t) => t.write(buf),
+            Target::InPlace(f) => f.write(buf),
+        }
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        match &mut self.0 {
+            Target::Temporary(t) => t.flush(),
+            Target::InPlace(f) => f.flush(),
+        }
+    }
+}
+
+impl TempTarget {
+    fn create(path: &Path) -> std::io::Result<Self> {
         let dir = match path.parent() {
             Some(d) if !d.as_os_str().is_empty() => d,
             _ => Path::new("."),
@@ -46,7 +103,7 @@ impl AtomicFile {
         std::fs::create_dir_all(dir)?;
         let tmp = tempfile::NamedTempFile::new_in(dir)?;
         let direct = direct::start(tmp.as_file());
-        Ok(AtomicFile {
+        Ok(TempTarget {
             tmp,
             path: path.to_path_buf(),
             written: 0,
@@ -55,9 +112,7 @@ impl AtomicFile {
         })
     }
 
-    /// Flushes and renames the file into place, readable by others like a
-    /// file the user created (temporary files start owner-only).
-    pub fn commit(mut self) -> std::io::Result<()> {
+    fn commit(mut self) -> std::io::Result<()> {
         if let Some(w) = self.direct.take() {
             w.finish()?;
         }
@@ -75,7 +130,7 @@ impl AtomicFile {
     }
 }
 
-impl Write for AtomicFile {
+impl Write for TempTarget {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
         if let Some(w) = &mut self.direct {
             let (n, direct) = w.write(buf)?;
@@ -478,7 +533,7 @@ mod tests {
         let bytes: Vec<u8> = (0..(9 << 20) + 5).map(|k| (k % 251) as u8).collect();
         for refusal in 0..2 {
             let path = dir.path().join(format!("out{refusal}.bin"));
-            let mut f = AtomicFile::create(&path).unwrap();
+            let mut f = TempTarget::create(&path).unwrap();
             let w = f.direct.as_mut().unwrap();
             if refusal == 0 {
                 w.misalign();
@@ -492,5 +547,52 @@ mod tests {
             f.commit().unwrap();
             assert_eq!(std::fs::read(&path).unwrap(), bytes);
         }
+    }
+
+    /// A named pipe stays a pipe and gets the bytes (renaming over it, as
+    /// over `/dev/null`, would put a regular file in its place). The reader
+    /// does not block, so a regression fails instead of hanging.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn a_pipe_is_written_in_place_not_replaced() {
+        use std::io::Read;
+        use std::os::unix::fs::{FileTypeExt, OpenOptionsExt};
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("pipe");
+        let name = std::ffi::CString::new(path.as_os_str().as_encoded_bytes()).unwrap();
+        // SAFETY: a plain system call on a valid C string.
+        assert_eq!(unsafe { libc::mkfifo(name.as_ptr(), 0o600) }, 0);
+        let mut reader = std::fs::OpenOptions::new()
+            .read(true)
+            .custom_flags(libc::O_NONBLOCK)
+            .open(&path)
+            .unwrap();
+        let target = path.clone();
+        let writer = std::thread::spawn(move || write_atomic(&target, b"through the pipe"));
+        let (mut got, mut buf) = (Vec::new(), [0u8; 64]);
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(20);
+        loop {
+            let done = writer.is_finished();
+            match reader.read(&mut buf) {
+                Ok(0) if done => break,
+                Ok(n) => got.extend_from_slice(&buf[..n]),
+                Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {}
+                Err(e) => panic!("{e}"),
+            }
+            assert!(
+                std::time::Instant::now() < deadline,
+                "the writer never finished"
+            );
+            std::thread::sleep(std::time::Duration::from_millis(1));
+        }
+        writer.join().unwrap().unwrap();
+        assert_eq!(got, b"through the pipe");
+        let kind = std::fs::metadata(&path).unwrap().file_type();
+        assert!(kind.is_fifo(), "the pipe was replaced by a file");
+        assert_eq!(
+            std::fs::read_dir(dir.path()).unwrap().count(),
+            1,
+            "a file was left beside it"
+        );
     }
 }
