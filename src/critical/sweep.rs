@@ -697,8 +697,9 @@ impl Sweep<'_> {
             .all(|&v| self.regular_alone(VertexId(v), &mut sc.lower));
         let mut result = Ok(regular);
         if regular {
-            for (i, &v) in group.iter().enumerate() {
-                if i > 0 || group.len() > 1 {
+            for &v in group {
+                // Alone at its height, the flags of the test are still here.
+                if group.len() > 1 {
                     self.regular_alone(VertexId(v), &mut sc.lower);
                 }
                 if let Err(e) = self.pass_with(VertexId(v), &mut sc) {
