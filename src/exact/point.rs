@@ -77,24 +77,58 @@ impl Point2 {
     }
 }
 
-/// `a = k * 2^e0` for the common exponent `e0` of a set of doubles, when
-/// every `|k| < 2^40`.
-fn common_ints<const N: usize>(xs: [f64; N]) -> Option<([i128; N], i32)> {
-    let parts = xs.map(decompose);
-    let e0 = parts.iter().flatten().map(|&(_, e)| e).min().unwrap_or(0);
-    let mut out = [0i128; N];
-    for (o, p) in out.iter_mut().zip(parts) {
-        if let Some((m, e)) = p {
-            let k = shl_exact(i128::from(m), e - e0)?;
-            if k.unsigned_abs() >= 1 << 40 {
-                return None;
-            }
-            *o = k;
-        } else if xs.iter().any(|x| !x.is_finite()) {
-            return None;
+/// `a = k * 2^e0` for the common exponent `e0` of a set of doubles (the
+/// lowest set bit among them; `0` when all are zero), when every
+/// `|k| < 2^40`: that is, when the highest set bit and the lowest one lie
+/// fewer than 40 binary places apart. Read from the bits (no `i128`
+/// shift): this runs once per crossing.
+#[inline(always)]
+fn common_ints<const N: usize>(xs: [f64; N]) -> Option<([i64; N], i32)> {
+    const EXPONENT: u64 = 0x7ff;
+    const FRACTION: u64 = (1 << 52) - 1;
+    // Each value as mantissa * 2^exponent (the mantissa not reduced).
+    let mut mantissas = [0u64; N];
+    let mut exponents = [0i32; N];
+    let (mut lowest, mut highest) = (i32::MAX, i32::MIN);
+    for i in 0..N {
+        let bits = xs[i].to_bits();
+        let biased = ((bits >> 52) & EXPONENT) as i32;
+        if biased == EXPONENT as i32 {
+            return None; // infinite or NaN
         }
+        let fraction = bits & FRACTION;
+        let (m, e) = if biased == 0 {
+            (fraction, -1074)
+        } else {
+            (fraction | (1 << 52), biased - 1075)
+        };
+        if m != 0 {
+            lowest = lowest.min(e + m.trailing_zeros() as i32);
+            highest = highest.max(e + 63 - m.leading_zeros() as i32);
+        }
+        mantissas[i] = m;
+        exponents[i] = e;
     }
-    Some((out, e0))
+    if lowest == i32::MAX {
+        return Some(([0; N], 0));
+    }
+    if highest - lowest >= 40 {
+        return None;
+    }
+    // Every shift is below 53 places to the right (the bits shifted out
+    // are zero: `lowest` is at or below each value's lowest set bit) or
+    // below 40 to the left (the result is below 2^40).
+    let mut ks = [0i64; N];
+    for i in 0..N {
+        let (m, e) = (mantissas[i], exponents[i]);
+        let k = if e >= lowest {
+            m << (e - lowest)
+        } else {
+            m >> (lowest - e)
+        } as i64;
+        ks[i] = if xs[i].is_sign_negative() { -k } else { k };
+    }
+    Some((ks, lowest))
 }
 
 /// The crossing with big integers: the six coordinates on their common
@@ -278,23 +312,31 @@ fn crossing_i128(a: [f64; 3], b: [f64; 3], level: &Level) -> Option<Scaled> {
     if p.unsigned_abs() >= 1 << 80 || q >= 1 << 80 {
         return None;
     }
-    // x = (ax q dz + (bx - ax)(p - q az)) / (q dz), dz = bz - az. With
-    // |k| < 2^40 and |p|, q < 2^80: |w| < 2^121 and |s| < 2^122, so only
-    // the two products of `coord` can overflow; their sizes are checked by
-    // bit length first (`checked_mul` on i128 is a slow library call).
-    let dz = bz - az;
+    // x = (ax q dz + (bx - ax)(p - q az)) / (q dz), dz = bz - az, with
+    // |k| < 2^40 (so |dz|, |bx - ax| < 2^41) and |p|, q < 2^80.
+    let dz = i128::from(bz - az);
     let w = q * dz;
-    let s = p - q * az;
-    let bits = |v: i128| 128 - v.unsigned_abs().leading_zeros();
-    let coord = |u: i128, v: i128| -> Option<i128> {
-        let d = v - u;
-        if bits(u) + bits(w) <= 126 && bits(d) + bits(s) <= 126 {
-            Some(u * w + d * s)
-        } else {
-            u.checked_mul(w)?.checked_add(d.checked_mul(s)?)
-        }
+    let s = p - q * i128::from(az);
+    let (x, y) = if q < 1 << 43 {
+        // |w| < 2^84 and |s| < 2^80 + 2^83 < 2^84: each product below
+        // 2^125, their sum below 2^126. Nothing to check.
+        let coord = |u: i64, v: i64| i128::from(u) * w + i128::from(v - u) * s;
+        (coord(ax, bx), coord(ay, by))
+    } else {
+        // |w| < 2^121 and |s| < 2^122: the two products of `coord` can
+        // overflow; their sizes are checked by bit length first
+        // (`checked_mul` on i128 is a slow library call).
+        let bits = |v: i128| 128 - v.unsigned_abs().leading_zeros();
+        let coord = |u: i64, v: i64| -> Option<i128> {
+            let (u, d) = (i128::from(u), i128::from(v - u));
+            if bits(u) + bits(w) <= 126 && bits(d) + bits(s) <= 126 {
+                Some(u * w + d * s)
+            } else {
+                u.checked_mul(w)?.checked_add(d.checked_mul(s)?)
+            }
+        };
+        (coord(ax, bx)?, coord(ay, by)?)
     };
-    let (x, y) = (coord(ax, bx)?, coord(ay, by)?);
     let (x, y, w) = if w < 0 { (-x, -y, -w) } else { (x, y, w) };
     if w == 0 || w >= 1 << 126 {
         return None;
@@ -597,6 +639,90 @@ mod tests {
             proptest::prop_assert_eq!(fast.y.numer(), reference.y.numer());
             proptest::prop_assert_eq!(fast.y.denom(), reference.y.denom());
         }
+    }
+
+    /// [`common_ints`] as first written, through [`decompose`] and
+    /// overflow-checked `i128` shifts: the reference for its bit reading.
+    fn common_ints_reference<const N: usize>(xs: [f64; N]) -> Option<([i128; N], i32)> {
+        let parts = xs.map(decompose);
+        let e0 = parts.iter().flatten().map(|&(_, e)| e).min().unwrap_or(0);
+        let mut out = [0i128; N];
+        for (o, p) in out.iter_mut().zip(parts) {
+            if let Some((m, e)) = p {
+                let k = shl_exact(i128::from(m), e - e0)?;
+                if k.unsigned_abs() >= 1 << 40 {
+                    return None;
+                }
+                *o = k;
+            } else if xs.iter().any(|x| !x.is_finite()) {
+                return None;
+            }
+        }
+        Some((out, e0))
+    }
+
+    /// Doubles `k * 2^e` with `|k| < 2^42` and one `e` per array (so that
+    /// the fast path is taken about half the time), any exponent (zeros,
+    /// subnormals and infinities included), or any bit pattern at all.
+    fn six_doubles() -> impl proptest::strategy::Strategy<Value = [f64; 6]> {
+        use proptest::prelude::*;
+        let close = (
+            proptest::array::uniform6(-(1i64 << 42)..1 << 42),
+            -1130i32..1030,
+            proptest::array::uniform6(0u8..4),
+        )
+            .prop_map(|(ks, e, zero)| {
+                let mut i = 0;
+                ks.map(|k| {
+                    i += 1;
+                    if zero[i - 1] == 0 {
+                        0.0
+                    } else {
+                        crate::exact::scale::times_pow2(k as f64, e)
+                    }
+                })
+            });
+        let any = proptest::array::uniform6(proptest::num::f64::ANY);
+        prop_oneof![close, any]
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(4096))]
+        /// The bit reading of the common grid equals the reference, on
+        /// coordinates across the whole `f64` range.
+        #[test]
+        fn common_ints_equal_the_reference(xs in six_doubles()) {
+            proptest::prop_assert_eq!(common_ints(xs).map(|(k, e)| (k.map(i128::from), e)), common_ints_reference(xs));
+        }
+    }
+
+    #[test]
+    fn common_ints_at_the_limits() {
+        let tiny = f64::from_bits(1);
+        for xs in [
+            [0.0; 6],
+            [-0.0, 0.0, 1.0, -1.0, 0.5, 3.0],
+            [tiny, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [tiny, -tiny * 3.0, 0.0, 0.0, 0.0, tiny * (1u64 << 39) as f64],
+            [tiny, 0.0, 0.0, 0.0, 0.0, tiny * (1u64 << 40) as f64],
+            [f64::MAX, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [2f64.powi(1023), 2f64.powi(984), 0.0, 0.0, 0.0, 0.0],
+            [2f64.powi(1023), 2f64.powi(983), 0.0, 0.0, 0.0, 0.0],
+            [1.0, f64::INFINITY, 0.0, 0.0, 0.0, 0.0],
+            [1.0, f64::NAN, 0.0, 0.0, 0.0, 0.0],
+            [40.0, 3.6e-16, 0.0, 0.0, 0.0, 0.0],
+        ] {
+            assert_eq!(
+                common_ints(xs).map(|(k, e)| (k.map(i128::from), e)),
+                common_ints_reference(xs),
+                "{xs:?}"
+            );
+        }
+        // Hand-derived: 6 = 3 * 2^1 and -0.375 = -3 * 2^-3 share 2^-3.
+        assert_eq!(common_ints([6.0, -0.375, 0.0]), Some(([48, -3, 0], -3)));
+        // 2^39 beside 1: 40 binary places, still fits; 2^40 does not.
+        assert!(common_ints([2f64.powi(39), 1.0]).is_some());
+        assert_eq!(common_ints([2f64.powi(40), 1.0]), None);
     }
 
     #[test]
