@@ -1,9 +1,9 @@
 //! Meshes with the coordinate patterns of real files (bench/meshgen.rs:
 //! an origin-centred `f32` torus with noise near zero, a decimal OBJ knot,
-//! an `f64` CAD-like part) take the per-edge and certified number paths;
-//! their level sets are checked by the independent verifier (SPEC 7 from
-//! the exact JSON) and by the invariants, and every rounded point of the
-//! JSON is the nearest double of its exact value.
+//! an `f64` CAD-like part) take the per-edge, certified and wide number
+//! paths; their level sets are checked by the independent verifier (SPEC 7
+//! from the exact JSON) and by the invariants, and every rounded point of
+//! the JSON is the nearest double of its exact value.
 
 #[path = "../bench/meshgen.rs"]
 #[allow(dead_code)]
@@ -31,6 +31,9 @@ fn levels(mesh: &wmslice::Mesh) -> Vec<Rat> {
         .collect();
     out.extend(zs.iter().step_by(5).cloned());
     out.push(parse_rational("1/3").unwrap());
+    // Simple fractions of the stepped part's 1.25 steps: its f64 edges cut
+    // there give exact ties between two doubles (the wide path).
+    out.extend(["3/8", "7/8", "21/8"].map(|c| parse_rational(c).unwrap()));
     out.retain(|c| *c > lo && *c < hi);
     out
 }
@@ -80,6 +83,7 @@ fn real_coordinate_patterns_slice_exactly_and_off_the_grid() {
     // tests of this binary, so only growth is asserted).
     assert!(taken(NumberPath::Certified) > 100, "{after:?}");
     assert!(taken(NumberPath::Edge) > 0, "{after:?}");
+    assert!(taken(NumberPath::Wide) > 0, "{after:?}");
 }
 
 #[test]
@@ -109,6 +113,9 @@ fn verbose_prints_the_number_paths() {
         .lines()
         .find(|l| l.starts_with("number paths (loop points): grid "))
         .unwrap_or_else(|| panic!("{err}"));
-    assert!(line.ends_with("per-edge 0, certified 0, big 0"), "{line}");
+    assert!(
+        line.ends_with("per-edge 0, certified 0, wide 0, big 0"),
+        "{line}"
+    );
     assert!(!line.contains("grid 0,"), "{line}");
 }

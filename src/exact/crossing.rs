@@ -278,16 +278,21 @@ pub enum NumberPath {
     Edge,
     /// Certified double-double; the exact value built only on demand.
     Certified,
+    /// Rounded from the exact value in 256-bit integers ([`super::wide`]),
+    /// when the certified bound does not decide (ties); the exact value
+    /// built only on demand.
+    Wide,
     /// Big rationals.
     Big,
 }
 
 impl NumberPath {
     /// Every path, in the order they are tried.
-    pub const ALL: [NumberPath; 4] = [
+    pub const ALL: [NumberPath; 5] = [
         NumberPath::Grid,
         NumberPath::Edge,
         NumberPath::Certified,
+        NumberPath::Wide,
         NumberPath::Big,
     ];
 
@@ -297,12 +302,14 @@ impl NumberPath {
             NumberPath::Grid => "grid",
             NumberPath::Edge => "per-edge",
             NumberPath::Certified => "certified",
+            NumberPath::Wide => "wide",
             NumberPath::Big => "big",
         }
     }
 }
 
-static TAKEN: [AtomicU64; 4] = [
+static TAKEN: [AtomicU64; 5] = [
+    AtomicU64::new(0),
     AtomicU64::new(0),
     AtomicU64::new(0),
     AtomicU64::new(0),
@@ -311,7 +318,7 @@ static TAKEN: [AtomicU64; 4] = [
 
 /// How many loop points took each path since the process started (or
 /// since [`reset_path_counts`]), in the order of [`NumberPath::ALL`].
-pub fn path_counts() -> [u64; 4] {
+pub fn path_counts() -> [u64; 5] {
     TAKEN.each_ref().map(|c| c.load(Ordering::Relaxed))
 }
 
@@ -327,7 +334,7 @@ pub struct Crossings<'a> {
     grid: Option<(&'a MeshGrid, GridLevel)>,
     level: Arc<Level>,
     approx: Option<LevelApprox>,
-    taken: [Cell<u64>; 4],
+    taken: [Cell<u64>; 5],
 }
 
 impl<'a> Crossings<'a> {

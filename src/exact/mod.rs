@@ -20,6 +20,7 @@ pub mod predicates;
 pub mod rational;
 pub mod scale;
 pub mod volume;
+pub mod wide;
 
 pub use level::Level;
 pub use point::Point2;

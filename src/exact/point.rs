@@ -77,58 +77,138 @@ impl Point2 {
     }
 }
 
+/// How a set of doubles lies on the binary grid: each as
+/// `±mantissa 2^exponent` (the mantissa not reduced), and the lowest and
+/// the highest set bit among them. Read from the bits (no `i128` shift):
+/// this runs once per crossing.
+pub(super) struct Layout<const N: usize> {
+    mantissas: [u64; N],
+    exponents: [i32; N],
+    negative: [bool; N],
+    /// The exponent of the lowest set bit (`0` when all are zero): every
+    /// value is `k 2^lowest` with `k` an integer.
+    pub lowest: i32,
+    /// The exponent of the highest set bit (`lowest - 1` when all are
+    /// zero).
+    highest: i32,
+}
+
+impl<const N: usize> Layout<N> {
+    /// The layout of `xs`, or `None` if one is infinite or NaN.
+    #[inline(always)]
+    pub fn of(xs: [f64; N]) -> Option<Self> {
+        const EXPONENT: u64 = 0x7ff;
+        const FRACTION: u64 = (1 << 52) - 1;
+        let mut out = Layout {
+            mantissas: [0; N],
+            exponents: [0; N],
+            negative: [false; N],
+            lowest: i32::MAX,
+            highest: i32::MIN,
+        };
+        for (i, x) in xs.into_iter().enumerate() {
+            let bits = x.to_bits();
+            let biased = ((bits >> 52) & EXPONENT) as i32;
+            if biased == EXPONENT as i32 {
+                return None;
+            }
+            let fraction = bits & FRACTION;
+            let (m, e) = if biased == 0 {
+                (fraction, -1074)
+            } else {
+                (fraction | (1 << 52), biased - 1075)
+            };
+            if m != 0 {
+                out.lowest = out.lowest.min(e + m.trailing_zeros() as i32);
+                out.highest = out.highest.max(e + 63 - m.leading_zeros() as i32);
+            }
+            out.mantissas[i] = m;
+            out.exponents[i] = e;
+            out.negative[i] = bits >> 63 == 1;
+        }
+        if out.lowest == i32::MAX {
+            (out.lowest, out.highest) = (0, -1);
+        }
+        Some(out)
+    }
+
+    /// The number of binary places the integers `k` need: every
+    /// `|k| < 2^places`.
+    #[inline(always)]
+    pub fn places(&self) -> i32 {
+        self.highest - self.lowest + 1
+    }
+
+    /// Each non-zero value as `k` (`x = k 2^lowest`). The caller checks
+    /// `places() <= 64`: then every shift is below 53 places to the right
+    /// (the bits shifted out are zero, as `lowest` is at or below each
+    /// value's lowest set bit) or below 64 to the left, and `k` fits.
+    #[inline(always)]
+    fn magnitudes(&self) -> [u64; N] {
+        let mut out = [0; N];
+        for (o, (&m, &e)) in out
+            .iter_mut()
+            .zip(self.mantissas.iter().zip(&self.exponents))
+        {
+            *o = if m == 0 {
+                0
+            } else if e >= self.lowest {
+                m << (e - self.lowest)
+            } else {
+                m >> (self.lowest - e)
+            };
+        }
+        out
+    }
+
+    /// Each value as `k` in `i64`, when `places() <= 63`.
+    #[inline(always)]
+    pub fn ints_i64(&self) -> Option<[i64; N]> {
+        (self.places() <= 63).then(|| {
+            let mut out = [0; N];
+            for ((o, k), &neg) in out.iter_mut().zip(self.magnitudes()).zip(&self.negative) {
+                *o = if neg { -(k as i64) } else { k as i64 };
+            }
+            out
+        })
+    }
+
+    /// Each value as `k` in `i128`, when `places() <= 127`.
+    pub fn ints_i128(&self) -> Option<[i128; N]> {
+        if self.places() <= 63 {
+            return self.ints_i64().map(|ks| ks.map(i128::from));
+        }
+        (self.places() <= 127).then(|| {
+            let mut out = [0; N];
+            for (i, o) in out.iter_mut().enumerate() {
+                let (m, e) = (i128::from(self.mantissas[i]), self.exponents[i]);
+                // Shifted left by at most 126 places (the result below
+                // 2^127), or right by at most 52 (dropping zeros).
+                let k = if m == 0 {
+                    0
+                } else if e >= self.lowest {
+                    m << (e - self.lowest)
+                } else {
+                    m >> (self.lowest - e)
+                };
+                *o = if self.negative[i] { -k } else { k };
+            }
+            out
+        })
+    }
+}
+
 /// `a = k * 2^e0` for the common exponent `e0` of a set of doubles (the
 /// lowest set bit among them; `0` when all are zero), when every
 /// `|k| < 2^40`: that is, when the highest set bit and the lowest one lie
-/// fewer than 40 binary places apart. Read from the bits (no `i128`
-/// shift): this runs once per crossing.
+/// fewer than 40 binary places apart.
 #[inline(always)]
 fn common_ints<const N: usize>(xs: [f64; N]) -> Option<([i64; N], i32)> {
-    const EXPONENT: u64 = 0x7ff;
-    const FRACTION: u64 = (1 << 52) - 1;
-    // Each value as mantissa * 2^exponent (the mantissa not reduced).
-    let mut mantissas = [0u64; N];
-    let mut exponents = [0i32; N];
-    let (mut lowest, mut highest) = (i32::MAX, i32::MIN);
-    for i in 0..N {
-        let bits = xs[i].to_bits();
-        let biased = ((bits >> 52) & EXPONENT) as i32;
-        if biased == EXPONENT as i32 {
-            return None; // infinite or NaN
-        }
-        let fraction = bits & FRACTION;
-        let (m, e) = if biased == 0 {
-            (fraction, -1074)
-        } else {
-            (fraction | (1 << 52), biased - 1075)
-        };
-        if m != 0 {
-            lowest = lowest.min(e + m.trailing_zeros() as i32);
-            highest = highest.max(e + 63 - m.leading_zeros() as i32);
-        }
-        mantissas[i] = m;
-        exponents[i] = e;
-    }
-    if lowest == i32::MAX {
-        return Some(([0; N], 0));
-    }
-    if highest - lowest >= 40 {
+    let layout = Layout::of(xs)?;
+    if layout.places() > 40 {
         return None;
     }
-    // Every shift is below 53 places to the right (the bits shifted out
-    // are zero: `lowest` is at or below each value's lowest set bit) or
-    // below 40 to the left (the result is below 2^40).
-    let mut ks = [0i64; N];
-    for i in 0..N {
-        let (m, e) = (mantissas[i], exponents[i]);
-        let k = if e >= lowest {
-            m << (e - lowest)
-        } else {
-            m >> (lowest - e)
-        } as i64;
-        ks[i] = if xs[i].is_sign_negative() { -k } else { k };
-    }
-    Some((ks, lowest))
+    Some((layout.ints_i64()?, layout.lowest))
 }
 
 /// The crossing with big integers: the six coordinates on their common
@@ -450,8 +530,14 @@ impl LoopPoint {
         }
         // Undecided (a crossing exactly halfway between two doubles, or
         // out of the certified range): the exact value decides the
-        // rounding. It is kept only when its doubles would not tell a zero
-        // coordinate (`zero_coordinates`): then it is rebuilt on demand.
+        // rounding, in 256-bit integers when it fits them (zero only when
+        // the value is: the doubles tell the zero coordinates).
+        if let Some(nearest) = super::wide::nearest_crossing(a, b, level) {
+            return (lazy(nearest), NumberPath::Wide);
+        }
+        // Else in big rationals. The exact value is kept only when its
+        // doubles would not tell a zero coordinate (`zero_coordinates`):
+        // otherwise it is rebuilt on demand.
         let exact = crossing_big(a, b, level);
         let nearest = exact.to_f64();
         let zeros_told = [(&exact.x, nearest[0]), (&exact.y, nearest[1])]
