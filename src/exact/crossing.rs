@@ -138,16 +138,22 @@ fn residual(p: i128, q: i128, hi: f64) -> Option<f64> {
 ///    (recursive summation of five terms, two rounded products, and the
 ///    errors of `U` and `V`). With `|ax Ul| <= |q1| (1 + 2u)`:
 ///    `|eN| <= 5u (|s| + |p1| + |p2| + |q1| + |q2|) + |ax| Ue + |bx| Ve`.
-/// 2. `x0 = fl(Nh / Dh)`, `(P, p) = TwoProd(x0, Dh)`. `Nh - P` is exact
-///    (Sterbenz: `P` is within a factor `(1 + u)^2` of `Nh`, same sign).
+/// 2. `i = fl(1 / Dh)` (one division per point, shared by `x` and `y`),
+///    `x0 = fl(Nh i)`, within a factor `(1 + u)^2` of `Nh / Dh`: any
+///    double that close serves. `(P, p) = TwoProd(x0, Dh)`. `Nh - P` is
+///    exact (Sterbenz: `P` is within a factor `(1 + u)^3` of `Nh`, same
+///    sign).
 ///    `R = N - x0 (Dh + Dl) = (Nh - P) - p + Nl - x0 Dl + eN` exactly;
 ///    `r = fl(fl((Nh - P) - p) + fl(Nl - fl(x0 Dl)))`, with
 ///    `|R - r| <= 3u (|Nh - P| + |p| + |Nl| + |x0 Dl|) + u |x0 Dl| + |eN|
 ///    =: eR` (three additions of four terms, one product; the `3u`
 ///    absorbs `g3`'s `1 / (1 - 3u)` with the slack below).
-/// 3. `x = x0 + R / (Dh + Dl)`; `x1 = fl(r / Dh)`. With `|Dl| <= u |Dh|`:
-///    `|R / (Dh + Dl) - x1| <= |r / Dh| (u + 2u) + eR / (|Dh| (1 - u))`,
-///    so `|x - (x0 + x1)| <= 3.01u |x1| + 1.01 eR / |Dh|`.
+/// 3. `x = x0 + R / (Dh + Dl)`; `x1 = fl(r i)`, within `2.01u |r / Dh|`
+///    of `r / Dh`. With `|Dl| <= u |Dh|`:
+///    `|R / (Dh + Dl) - x1| <= |r / Dh| (1.01u + 2.01u) + eR / (|Dh| (1 - u))`,
+///    so `|x - (x0 + x1)| <= 4.02u |x1| + 1.01 eR / |Dh|` (the `u` of
+///    `Dl` and the `2.01u` of the product, over `|r / Dh| <= 1.01 |x1|`,
+///    rounded up).
 ///
 /// Underflow: a sum that underflows is exact, and TwoProd is exact in the
 /// ranges checked (`|ax Uh| >= 2^-700`; `|x0 Dh|` is near `|Nh|`, which
@@ -159,7 +165,8 @@ fn residual(p: i128, q: i128, hi: f64) -> Option<f64> {
 /// and to `eR`, covers it.
 ///
 /// The bound is evaluated in rounded arithmetic on non-negative terms
-/// (fewer than 30 operations, each raising at most `u` relatively), then
+/// (fewer than 30 operations, each raising at most `u` relatively; the
+/// division by `|Dh|` is a product by `|i|`, one more such rounding), then
 /// doubled, plus `2^-1000` for the underflow of its smallest terms: a
 /// safe upper bound. `(f, e) = TwoSum(x0, x1)`, `f` the
 /// candidate; `x0 + x1 - f = e` exactly. The exact `x` rounds to `f` when
@@ -174,7 +181,7 @@ fn coordinate(
     bx: f64,
     (u_h, u_l, u_e): (f64, f64, f64),
     (v_h, v_l, v_e): (f64, f64, f64),
-    (d_h, d_l): (f64, f64),
+    (d_h, d_l, d_inv): (f64, f64, f64),
 ) -> Option<f64> {
     if ax == bx {
         // A convex combination of one value (also when both are zero;
@@ -192,15 +199,15 @@ fn coordinate(
         + ax.abs() * u_e
         + bx.abs() * v_e
         + ABS;
-    let x0 = n_h / d_h;
+    let x0 = n_h * d_inv;
     let (p, pl) = two_prod(x0, d_h);
     let diff = n_h - p;
     let x0dl = x0 * d_l;
     let r = (diff - pl) + (n_l - x0dl);
     let e_r =
         3.0 * U * (diff.abs() + pl.abs() + n_l.abs() + x0dl.abs()) + U * x0dl.abs() + e_n + ABS;
-    let x1 = r / d_h;
-    let bound = 2.0 * (3.01 * U * x1.abs() + 1.01 * e_r / d_h.abs()) + ABS_BOUND;
+    let x1 = r * d_inv;
+    let bound = 2.0 * (4.02 * U * x1.abs() + 1.01 * e_r * d_inv.abs()) + ABS_BOUND;
     let (f, e) = two_sum(x0, x1);
     if !(OUT_LO..=OUT_HI).contains(&f.abs()) || !bound.is_finite() {
         return None;
@@ -264,8 +271,10 @@ fn certified_crossing_with(a: [f64; 3], b: [f64; 3], c: &LevelApprox) -> Option<
     }
     let uu = (u_h, u_l, u_e);
     let vv = (v_h, v_l, v_e);
-    let x = coordinate(a[0], b[0], uu, vv, (d_h, d_l))?;
-    let y = coordinate(a[1], b[1], uu, vv, (d_h, d_l))?;
+    // D in [2^-400, 2^400]: its reciprocal is a normal double.
+    let dd = (d_h, d_l, 1.0 / d_h);
+    let x = coordinate(a[0], b[0], uu, vv, dd)?;
+    let y = coordinate(a[1], b[1], uu, vv, dd)?;
     Some([x, y])
 }
 
