@@ -139,61 +139,54 @@ impl<const N: usize> Layout<N> {
         self.highest - self.lowest + 1
     }
 
-    /// Each non-zero value as `k` (`x = k 2^lowest`). The caller checks
-    /// `places() <= 64`: then every shift is below 53 places to the right
-    /// (the bits shifted out are zero, as `lowest` is at or below each
-    /// value's lowest set bit) or below 64 to the left, and `k` fits.
+    /// Each value as `k` (`x = k 2^lowest`) in `u64` or `u128`, its sign
+    /// dropped. The caller checks that `k` fits (`places()` at most the
+    /// width): then every shift is below 53 places to the right (the bits
+    /// shifted out are zero, as `lowest` is at or below each non-zero
+    /// value's lowest set bit) or below the width to the left.
     #[inline(always)]
-    fn magnitudes(&self) -> [u64; N] {
-        let mut out = [0; N];
-        for (o, (&m, &e)) in out
-            .iter_mut()
-            .zip(self.mantissas.iter().zip(&self.exponents))
-        {
-            *o = if m == 0 {
-                0
+    fn magnitudes<T>(&self) -> [T; N]
+    where
+        T: From<u64> + std::ops::Shl<i32, Output = T> + std::ops::Shr<i32, Output = T>,
+    {
+        std::array::from_fn(|i| {
+            let (m, e) = (self.mantissas[i], self.exponents[i]);
+            if m == 0 {
+                T::from(0)
             } else if e >= self.lowest {
-                m << (e - self.lowest)
+                T::from(m) << (e - self.lowest)
             } else {
-                m >> (self.lowest - e)
-            };
-        }
-        out
+                T::from(m) >> (self.lowest - e)
+            }
+        })
     }
 
     /// Each value as `k` in `i64`, when `places() <= 63`.
     #[inline(always)]
     pub fn ints_i64(&self) -> Option<[i64; N]> {
         (self.places() <= 63).then(|| {
-            let mut out = [0; N];
-            for ((o, k), &neg) in out.iter_mut().zip(self.magnitudes()).zip(&self.negative) {
-                *o = if neg { -(k as i64) } else { k as i64 };
-            }
-            out
+            let ks = self.magnitudes::<u64>();
+            std::array::from_fn(|i| {
+                if self.negative[i] {
+                    -(ks[i] as i64)
+                } else {
+                    ks[i] as i64
+                }
+            })
         })
     }
 
     /// Each value as `k` in `i128`, when `places() <= 127`.
     pub fn ints_i128(&self) -> Option<[i128; N]> {
-        if self.places() <= 63 {
-            return self.ints_i64().map(|ks| ks.map(i128::from));
-        }
         (self.places() <= 127).then(|| {
-            let mut out = [0; N];
-            for (i, o) in out.iter_mut().enumerate() {
-                let (m, e) = (i128::from(self.mantissas[i]), self.exponents[i]);
-                // Shifted left by at most 126 places (the result below
-                // 2^127), or right by at most 52 (dropping zeros).
-                let k = if m == 0 {
-                    0
-                } else if e >= self.lowest {
-                    m << (e - self.lowest)
+            let ks = self.magnitudes::<u128>();
+            std::array::from_fn(|i| {
+                if self.negative[i] {
+                    -(ks[i] as i128)
                 } else {
-                    m >> (self.lowest - e)
-                };
-                *o = if self.negative[i] { -k } else { k };
-            }
-            out
+                    ks[i] as i128
+                }
+            })
         })
     }
 }
