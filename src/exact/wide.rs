@@ -47,7 +47,9 @@ pub fn nearest_crossing(a: [f64; 3], b: [f64; 3], level: &Level) -> Option<[f64;
     // p / q in units of 2^e0: p / (q 2^e0), the powers of two cancelled.
     let (p, q) = (I256::from(p), I256::from(q));
     let k = e0.unsigned_abs();
-    let (p, q) = if e0 >= 0 {
+    let (p, q) = if p == 0 {
+        (p, I256::ONE)
+    } else if e0 >= 0 {
         let t = p.trailing_zeros().min(k);
         (p >> t, shifted(q, k - t)?)
     } else {
@@ -154,6 +156,18 @@ mod tests {
         );
         let c = Level::new(parse_rational("0.375").unwrap());
         assert_eq!(nearest_crossing(a, b, &c), Some(reference(a, b, &c)));
+    }
+
+    #[test]
+    fn the_zero_level_far_from_one() {
+        // Coordinates near 2^300 cut at 0 (found by the fuzzer: a zero
+        // numerator was shifted by 300 places).
+        let zero = Level::new(Rat::from_integer(0.into()));
+        let big = 2f64.powi(300);
+        assert_eq!(
+            nearest_crossing([big, 0.0, -big], [2.0 * big, big, big], &zero),
+            Some([1.5 * big, 0.5 * big])
+        );
     }
 
     #[test]
