@@ -33,9 +33,10 @@ const DENOMINATOR_BITS: u32 = 50;
 
 /// The nearest doubles (ties to even) of the crossing of edge `(a, b)`
 /// with `level` (the caller guarantees `az != bz`), or `None` when the
-/// values exceed the bounds above or a coordinate is not a normal double
-/// (then the caller takes the big-rational path). Equal to the rounding
-/// of the big-rational reference (property-tested).
+/// values exceed the bounds above, the level does not fit `i128`, or a
+/// rounded coordinate would not be zero or a normal double (then the
+/// caller takes the big-rational path). Exact value, one rounding: equal
+/// to the rounding of the big-rational reference (property-tested).
 pub fn nearest_crossing(a: [f64; 3], b: [f64; 3], level: &Level) -> Option<[f64; 2]> {
     let (p, q) = level.wide()?;
     let layout = Layout::of([a[0], a[1], a[2], b[0], b[1], b[2]])?;
