@@ -778,6 +778,34 @@ mod tests {
         }
     }
 
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(2048))]
+        /// The layout's `i128` integers are the doubles over `2^lowest`,
+        /// exactly (checked in big rationals), whenever they need at most
+        /// 127 places; and they are offered exactly then.
+        #[test]
+        fn layout_integers_are_the_values(
+            ms in proptest::array::uniform6(-(1i64 << 53)..1 << 53),
+            shifts in proptest::array::uniform6(0i32..80), e in -1100i32..900,
+        ) {
+            let mut i = 0;
+            let xs = ms.map(|m| {
+                i += 1;
+                crate::exact::scale::times_pow2(m as f64, e + shifts[i - 1])
+            });
+            proptest::prop_assume!(xs.iter().all(|x| x.is_finite()));
+            let layout = Layout::of(xs).unwrap();
+            let ints = layout.ints_i128();
+            proptest::prop_assert_eq!(ints.is_some(), layout.places() <= 127);
+            if let Some(ks) = ints {
+                let unit = Rat::from_integer(2.into()).pow(layout.lowest);
+                for (k, x) in ks.iter().zip(xs) {
+                    proptest::prop_assert_eq!(Rat::from_integer((*k).into()) * &unit, rat_from_f64(x));
+                }
+            }
+        }
+    }
+
     #[test]
     fn common_ints_at_the_limits() {
         let tiny = f64::from_bits(1);
