@@ -134,20 +134,20 @@ mod tests {
 
     #[test]
     fn ties_round_to_even() {
-        // Hand-derived: the edge from x = 1 to x = 1 + 2^-52 cut at its
-        // middle has x = 1 + 2^-53, halfway between 1 and 1 + 2^-52: ties
-        // to even give 1. From 1 to 1 + 3 2^-52, the middle 1 + 3 2^-53
-        // lies halfway between 1 + 2^-52 (odd) and 1 + 2^-51 (even).
+        // Hand-derived, with exact input doubles (no tolerance: `d(k)` is
+        // the k-th double above 1, `1 + k 2^-52`). The edge from x = 1 to
+        // d(1) cut at its middle has x = 1 + 2^-53, halfway between 1 and
+        // d(1): ties to even give 1. From 1 to d(3), the middle
+        // 1 + 3 2^-53 lies halfway between d(1) (odd) and d(2) (even).
+        let d = |k: u64| f64::from_bits(1f64.to_bits() + k);
         let half = Level::new(parse_rational("1/2").unwrap());
-        let up = 1.0 + f64::EPSILON;
         assert_eq!(
-            nearest_crossing([1.0, 1.0, 0.0], [up, 1.0, 1.0], &half),
+            nearest_crossing([1.0, 1.0, 0.0], [d(1), 1.0, 1.0], &half),
             Some([1.0, 1.0])
         );
-        let far = 1.0 + 3.0 * f64::EPSILON;
         assert_eq!(
-            nearest_crossing([1.0, -1.0, 0.0], [far, -1.0, 1.0], &half),
-            Some([1.0 + 2.0 * f64::EPSILON, -1.0])
+            nearest_crossing([1.0, -1.0, 0.0], [d(3), -1.0, 1.0], &half),
+            Some([d(2), -1.0])
         );
         // A decimal cut of an f64 edge that is an exact tie (the case this
         // path is for): checked against the big rationals.
