@@ -3,8 +3,7 @@
 //! edges), each with its facing, exact area and boundary half-edges dF.
 
 use super::Signs;
-use crate::exact::area::twice_area_xy;
-use crate::exact::dyadic::Dyadic;
+use crate::exact::face_area::{twice_area_xy, MagnitudeSum};
 use crate::exact::predicates::orient2d_xy;
 use crate::exact::rational::Rat;
 use crate::exact::Sign;
@@ -114,14 +113,22 @@ pub fn face_regions(
         }
         faces.sort_unstable();
         let mut facing = Facing::Flat;
-        let mut twice = Dyadic::default();
+        let mut twice = MagnitudeSum::default();
         for &f in &faces {
-            let fa = face_facing(mesh, f);
-            if facing == Facing::Flat {
-                facing = fa;
-            }
             let [a, b, c] = mesh.faces[f.idx()].map(|v| mesh.pos(v));
-            twice.add_abs(&twice_area_xy(a, b, c));
+            // A slicer's mesh is validated: every coordinate is finite,
+            // so no face is skipped here.
+            let Some(area) = twice_area_xy(a, b, c) else {
+                continue;
+            };
+            if facing == Facing::Flat {
+                facing = match area.sign() {
+                    Sign::Positive => Facing::Up,
+                    Sign::Negative => Facing::Down,
+                    Sign::Zero => Facing::Flat,
+                };
+            }
+            twice.add_abs(&area);
         }
         boundary.sort_unstable_by_key(|b| b.edge);
         regions.push(Region {

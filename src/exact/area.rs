@@ -10,9 +10,8 @@
 //! result is reduced by the (small) point denominators one at a time, never
 //! by a big gcd.
 
-use super::dyadic::Dyadic;
 use super::point::{gcd_u128, LoopPoint, Point2};
-use super::rational::{decompose, rat_to_f64, Rat};
+use super::rational::{rat_to_f64, Rat};
 use num_bigint::{BigInt, BigUint};
 use num_integer::Integer;
 use num_traits::{One, Signed, Zero};
@@ -306,37 +305,6 @@ fn lowest_terms(num: BigInt, den: BigInt, factors: Vec<BigUint>) -> Rat {
     Rat::new_raw(if negative { -num } else { num }, BigInt::from(den))
 }
 
-/// Twice the signed area of the `(x, y)` projection of a triangle with
-/// double coordinates, exactly, as `m * 2^e` (doubles are dyadic, so the
-/// area is too). In `i128` when the six coordinates span at most 61 bits
-/// of one binary grid, else in `BigInt`.
-pub fn twice_area_xy(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> Dyadic {
-    let coords = [a[0], a[1], b[0], b[1], c[0], c[1]].map(decompose);
-    let e0 = coords.iter().flatten().map(|&(_, e)| e).min().unwrap_or(0);
-    let det = |k: [BigInt; 6]| {
-        let [ax, ay, bx, by, cx, cy] = k;
-        (&bx - &ax) * (&cy - &ay) - (&by - &ay) * (&cx - &ax)
-    };
-    let small: Option<Vec<i128>> = coords
-        .iter()
-        .map(|p| match *p {
-            None => Some(0),
-            Some((m, e)) => {
-                let s = u32::try_from(e - e0).ok().filter(|&s| s < 64)?;
-                let k = i128::from(m) << s;
-                (k.unsigned_abs() < 1 << 61).then_some(k)
-            }
-        })
-        .collect();
-    let m = match small {
-        // Differences below 2^62, products below 2^124: no overflow.
-        Some(k) => BigInt::from((k[2] - k[0]) * (k[5] - k[1]) - (k[3] - k[1]) * (k[4] - k[0])),
-        None => det(coords
-            .map(|p| p.map_or_else(BigInt::zero, |(m, e)| BigInt::from(m) << (e - e0) as u32))),
-    };
-    Dyadic::new(m, 2 * e0)
-}
-
 /// The shoelace with rational arithmetic throughout: the reference.
 pub fn signed_area_reference(points: &[Point2]) -> Rat {
     let n = points.len();
@@ -414,30 +382,6 @@ mod tests {
             // Rounding the unreduced fraction gives the nearest double.
             proptest::prop_assert_eq!(AreaSum::of([a.as_slice(), b.as_slice()]).to_f64(), rat_to_f64(&expect));
             proptest::prop_assert_eq!(total, expect);
-        }
-    }
-
-    proptest::proptest! {
-        /// The dyadic triangle area equals the rational one, for grid,
-        /// decimal and wildly scaled coordinates.
-        #[test]
-        fn dyadic_triangle_area_is_exact(
-            v in proptest::array::uniform6(-10_000i32..10_000),
-            scale in proptest::array::uniform3(-60i32..60),
-            decimal in proptest::bool::ANY,
-        ) {
-            let f = |i: usize| {
-                let x = f64::from(v[i]);
-                if decimal { x * 0.1 } else { x * 2f64.powi(scale[i / 2]) }
-            };
-            let (a, b, c) = ([f(0), f(1), 0.0], [f(2), f(3), 0.0], [f(4), f(5), 0.0]);
-            let pts: Vec<Point2> = [a, b, c].iter().map(|p| Point2::of_vertex(*p)).collect();
-            let expect = signed_area_reference(&pts).abs() * Rat::from_integer(2.into());
-            let mut sum = Dyadic::default();
-            sum.add_abs(&twice_area_xy(a, b, c));
-            proptest::prop_assert_eq!(sum.to_rat_times_pow2(0), expect.clone());
-            sum.add_abs(&twice_area_xy(c, b, a));
-            proptest::prop_assert_eq!(sum.to_rat_times_pow2(-1), expect);
         }
     }
 

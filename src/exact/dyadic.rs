@@ -18,6 +18,15 @@ impl Dyadic {
         Dyadic { m, e }
     }
 
+    /// The sign of the value: `-1`, `0` or `1`.
+    pub fn signum(&self) -> i32 {
+        match self.m.sign() {
+            num_bigint::Sign::Minus => -1,
+            num_bigint::Sign::NoSign => 0,
+            num_bigint::Sign::Plus => 1,
+        }
+    }
+
     /// Adds `|x|` exactly.
     pub fn add_abs(&mut self, x: &Dyadic) {
         self.add(&x.m.abs(), x.e);

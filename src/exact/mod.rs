@@ -8,6 +8,7 @@
 pub mod area;
 pub mod crossing;
 pub mod dyadic;
+pub mod face_area;
 pub mod filter;
 pub mod grid;
 pub mod homogeneous;

@@ -176,6 +176,27 @@ impl<const N: usize> Layout<N> {
         })
     }
 
+    /// Each value as `k`, a big integer (any number of places).
+    pub fn ints_big(&self) -> [BigInt; N] {
+        std::array::from_fn(|i| {
+            let (m, e) = (self.mantissas[i], self.exponents[i]);
+            // `lowest` is at most 52 places above a non-zero value's
+            // exponent (its lowest set bit): the bits shifted out are zero.
+            let k = if m == 0 {
+                BigInt::zero()
+            } else if e >= self.lowest {
+                BigInt::from(m) << (e - self.lowest) as u32
+            } else {
+                BigInt::from(m >> (self.lowest - e))
+            };
+            if self.negative[i] {
+                -k
+            } else {
+                k
+            }
+        })
+    }
+
     /// Each value as `k` in `i128`, when `places() <= 127`.
     pub fn ints_i128(&self) -> Option<[i128; N]> {
         (self.places() <= 127).then(|| {
