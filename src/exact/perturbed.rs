@@ -71,15 +71,22 @@ impl Motion {
 pub struct EpsPoint<'a> {
     base: FilteredPoint<'a>,
     motion: Motion,
-    velocity: OnceCell<Point2>,
+    /// Boxed: most points never need it, and the point stays small.
+    velocity: OnceCell<Box<Point2>>,
 }
 
 impl<'a> EpsPoint<'a> {
     /// The crossing whose limit is `base` (enclosed here) and which moves
     /// as `motion` says.
     pub fn new(base: &'a LoopPoint, motion: Motion) -> Self {
+        Self::with_base(FilteredPoint::new(base), motion)
+    }
+
+    /// As [`EpsPoint::new`], with the limit already filtered and enclosed
+    /// (shared by the crossings of one run).
+    pub fn with_base(base: FilteredPoint<'a>, motion: Motion) -> Self {
         EpsPoint {
-            base: FilteredPoint::new(base),
+            base,
             motion,
             velocity: OnceCell::new(),
         }
@@ -92,7 +99,7 @@ impl<'a> EpsPoint<'a> {
 
     /// The exact velocity `d`.
     pub fn velocity(&self) -> &Point2 {
-        self.velocity.get_or_init(|| self.motion.velocity())
+        self.velocity.get_or_init(|| Box::new(self.motion.velocity()))
     }
 }
 

@@ -24,6 +24,7 @@ use super::{LevelBuilder, Loop, SliceError};
 use crate::chain::chain_loops;
 use crate::classify::Side;
 use crate::exact::area::signed_area;
+use crate::exact::filter::FilteredPoint;
 use crate::exact::perturbed::{orientation, EpsPoint, Motion, Towards};
 use crate::exact::point::LoopPoint;
 use crate::exact::Rat;
@@ -71,6 +72,9 @@ impl LevelBuilder<'_> {
         let moving: Vec<Vec<EpsPoint<'_>>> = chained
             .iter()
             .map(|c| {
+                // One filtered limit per run, shared by its crossings.
+                let bases: Vec<FilteredPoint<'_>> =
+                    c.points.iter().map(FilteredPoint::new).collect();
                 c.crossings
                     .iter()
                     .zip(&c.run_of)
@@ -80,7 +84,7 @@ impl LevelBuilder<'_> {
                             b: self.mesh.pos(b),
                             towards,
                         };
-                        EpsPoint::new(&c.points[r as usize], motion)
+                        EpsPoint::with_base(bases[r as usize].clone(), motion)
                     })
                     .collect()
             })
