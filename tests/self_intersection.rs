@@ -207,9 +207,24 @@ fn nested_shells_do_not_intersect() {
     let outer = cube([0.0; 3], 4.0, 3);
     assert!(validate(&outer).is_accepted());
     for (lo, size) in [([1.0; 3], 2.0), ([0.5, 1.0, 2.0], 1.0)] {
-        let m = union(&outer, &cube(lo, size, 2));
+        // Facing inward, the inner cube is a cavity: accepted. Facing
+        // outward it intersects nothing either, but is a solid inside a
+        // solid: refused for that alone.
+        let mut cavity = cube(lo, size, 2);
+        for t in &mut cavity.faces {
+            t.swap(1, 2);
+        }
+        let m = union(&outer, &cavity);
         assert!(intersections(&m).is_empty());
         assert!(validate(&m).is_accepted(), "{}", validate(&m));
+        let m = union(&outer, &cube(lo, size, 2));
+        assert!(intersections(&m).is_empty());
+        let r = validate(&m);
+        let errors: Vec<_> = r.errors().collect();
+        assert!(
+            errors.len() == 1 && matches!(errors[0], Defect::MisnestedShell { winding: 1, .. }),
+            "{r}"
+        );
     }
     // Moved out to touch the outer wall from inside: they intersect.
     let touching = union(&outer, &cube([3.0, 1.0, 1.0], 1.0, 2));

@@ -445,3 +445,49 @@ fn accepting_for_slicing_agrees_with_validation() {
     // The sliver is not repaired here (`accept` takes the mesh as given).
     assert_eq!(rejected, 5);
 }
+
+#[test]
+fn a_solid_inside_a_solid_is_refused_by_check_and_slice_not_sliced() {
+    // A unit tetrahedron at (1, 1, 1) inside one scaled by 10 (x + y + z
+    // <= 10 holds its corners), both facing outward: every face is sound
+    // and the total volume positive, but the inner solid is counted twice.
+    // Facing inward it is a cavity, and accepted.
+    let mut nested = two_tetras([1., 1., 1.], [4, 5, 6, 7]);
+    for p in &mut nested.positions[..4] {
+        *p = p.map(|x| x * 10.0);
+    }
+    let mut cavity = nested.clone();
+    for t in &mut cavity.faces[4..] {
+        t.swap(1, 2);
+    }
+    assert!(validate(&cavity).is_accepted());
+    let r = validate(&nested);
+    assert_eq!(
+        r.errors().cloned().collect::<Vec<_>>(),
+        vec![Defect::MisnestedShell {
+            face: f(4),
+            facing: wmslice::mesh::validate::ShellFacing::Outward,
+            winding: 1,
+        }]
+    );
+    assert!(accept(&nested).is_err());
+    let dir = tempfile::tempdir().unwrap();
+    let path = write_off(dir.path(), "nested.off", &nested);
+    let out_json = dir.path().join("out.json");
+    for args in [vec!["check"], vec!["slice", "--at", "3/2", "-o"]] {
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_wmslice"));
+        cmd.args(&args);
+        if args[0] == "slice" {
+            cmd.arg(&out_json);
+        }
+        let out = cmd.arg(&path).output().unwrap();
+        assert_eq!(out.status.code(), Some(3), "{args:?}");
+        let text = String::from_utf8_lossy(&out.stdout) + String::from_utf8_lossy(&out.stderr);
+        assert!(
+            text.contains("the shell of face f4 faces outward"),
+            "{args:?}: {text}"
+        );
+        assert!(!text.contains("internal error"), "{text}");
+    }
+    assert!(!out_json.exists());
+}

@@ -90,6 +90,24 @@ pub fn signed_volume(mesh: &Mesh) -> Rat {
     wide.to_rat_times_pow2(0) / Rat::from_integer(6.into())
 }
 
+/// The exact sign of the signed volume of some faces of a mesh (one shell:
+/// positive when it faces outward). The faces' indices are in range.
+pub fn volume_sign_of(mesh: &Mesh, faces: &[crate::ids::FaceId]) -> Sign {
+    let mut sum = FaceSum::default();
+    for &f in faces {
+        sum.add_face(mesh.faces[f.idx()].map(|v| mesh.pos(v)));
+    }
+    let mut wide = sum.wide;
+    for (e, v) in sum.buckets {
+        wide.add(&BigInt::from(v), e);
+    }
+    match wide.signum() {
+        0 => Sign::Zero,
+        s if s > 0 => Sign::Positive,
+        _ => Sign::Negative,
+    }
+}
+
 /// The sign of [`signed_volume`] when a floating-point sum decides it,
 /// else `None` (then only the exact sum can tell).
 ///

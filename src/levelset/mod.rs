@@ -278,7 +278,19 @@ impl<'m> Slicer<'m> {
         grid_level: &Level,
         active: &[FaceId],
     ) -> Result<LevelSet, SliceError> {
-        let mut ls = LevelBuilder::new(self, grid_level, active).build()?;
+        let mut ls = LevelBuilder::new(self, grid_level, active)
+            .build()
+            .map_err(|e| match e {
+                // Name the level the caller asked for; the numbers in `what`
+                // are the grid's.
+                SliceError::Invariant { what, .. } if !self.unit.is_one() => {
+                    SliceError::Invariant {
+                        level: crate::exact::rational::rat_to_string(c),
+                        what: format!("{what} (in units of the snapping grid)"),
+                    }
+                }
+                e => e,
+            })?;
         if !self.unit.is_one() {
             let u = &self.unit;
             let u2 = u * u;

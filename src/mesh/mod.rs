@@ -9,6 +9,7 @@ pub mod flip;
 pub mod intersect;
 pub mod io;
 pub mod prepare;
+pub mod shells;
 pub mod snap;
 pub mod topology;
 pub mod validate;

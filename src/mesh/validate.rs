@@ -28,11 +28,11 @@ use crate::exact::volume::{signed_volume, volume_sign_filter};
 use crate::ids::{FaceId, VertexId};
 use crate::mesh::flip::{diagnose, Unflippable};
 use crate::mesh::intersect::{face_pairs, EdgeOverlap};
+use crate::mesh::shells::{misnested_shells, shells};
 use crate::mesh::topology::{Topology, TopologyIssue, NO_FACE};
 use crate::mesh::Mesh;
 use crate::par;
 use num_traits::Signed;
-use petgraph::unionfind::UnionFind;
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::fmt;
@@ -165,6 +165,24 @@ pub enum Defect {
         /// The exact signed volume.
         volume: String,
     },
+    /// A shell (a connected component of the surface) whose orientation
+    /// disagrees with where it lies, so that the faces bound no solid: an
+    /// outward shell inside the material (a solid in a solid, counted
+    /// twice), or an inward one outside it (a cavity in empty space).
+    /// Decided exactly ([`crate::mesh::shells`]).
+    #[error(
+        "the shell of face {face} faces {facing}, but the winding number of the other shells around it is \
+         {winding}: a shell facing outward must lie outside the material (0), a cavity's shell facing inward \
+         inside it (1)"
+    )]
+    MisnestedShell {
+        /// The shell's lowest face id.
+        face: FaceId,
+        /// Which way the shell faces (the sign of its own exact volume).
+        facing: ShellFacing,
+        /// The winding number of the other shells around it.
+        winding: i64,
+    },
     /// A face whose three vertices are collinear (zero area), left after
     /// the repair by edge flips ([`crate::mesh::flip::repair_degenerate`]),
     /// with the reason no flip removed it.
@@ -181,6 +199,28 @@ pub enum Defect {
         /// The vertex.
         vertex: VertexId,
     },
+}
+
+/// Which way a shell faces: the sign of the exact volume it encloses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ShellFacing {
+    /// Positive volume: normals point away from the region it bounds.
+    Outward,
+    /// Negative volume: normals point into the region it bounds.
+    Inward,
+    /// Zero volume.
+    Flat,
+}
+
+impl fmt::Display for ShellFacing {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            ShellFacing::Outward => "outward",
+            ShellFacing::Inward => "inward",
+            ShellFacing::Flat => "nowhere (zero volume)",
+        })
+    }
 }
 
 fn list(faces: &[FaceId]) -> String {
@@ -434,9 +474,9 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
     // The component count (a serial union-find) beside the fold check
     // (parallel over edges) and the self-intersection test.
     let geometric = finite && closed_manifold;
-    let (components, (edge_defects, apart)) = par::join(
+    let (shells, (edge_defects, apart)) = par::join(
         parallel,
-        || components(mesh, &topo),
+        || shells(mesh, &topo),
         || {
             if geometric {
                 let (edges, apart) = face_pairs(mesh, &topo, MAX_LISTED_DEFECTS);
@@ -452,6 +492,9 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
     for d in degenerate {
         sink.push(d);
     }
+    let folded = edge_defects
+        .iter()
+        .any(|(_, kind)| matches!(kind, EdgeOverlap::Fold));
     let mut intersecting = Vec::new();
     for (e, kind) in edge_defects {
         let edge = topo.edge(e);
@@ -467,6 +510,14 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
             EdgeOverlap::Proper => {}
         }
     }
+    // Shells may be told apart by where they lie only when they are
+    // disjoint closed surfaces: no fold, no face pair that meets.
+    let disjoint = geometric
+        && intersecting.is_empty()
+        && !folded
+        && apart
+            .as_ref()
+            .is_some_and(|a| a.pairs.is_empty() && a.unlisted == 0);
     if let Some(apart) = apart {
         // Both lists are ascending; the first MAX_LISTED_DEFECTS of their
         // union are among the listed ones of each.
@@ -476,6 +527,19 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
     }
     for (a, b) in intersecting {
         sink.push(Defect::SelfIntersection { a, b });
+    }
+    if disjoint {
+        for m in misnested_shells(mesh, &shells) {
+            sink.push(Defect::MisnestedShell {
+                face: m.face,
+                facing: match m.volume {
+                    Sign::Positive => ShellFacing::Outward,
+                    Sign::Negative => ShellFacing::Inward,
+                    Sign::Zero => ShellFacing::Flat,
+                },
+                winding: m.winding,
+            });
+        }
     }
     if volume_computed
         && closed_manifold
@@ -491,7 +555,7 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
     let used_count = used.iter().filter(|&&u| u).count() as i64;
     stats.edges = topo.num_edges();
     stats.euler_characteristic = used_count - stats.edges as i64 + stats.faces as i64;
-    stats.components = components;
+    stats.components = shells.len();
     if closed_manifold {
         stats.genus = Some((2 * stats.components as i64 - stats.euler_characteristic) / 2);
     }
@@ -640,18 +704,6 @@ fn degenerate_faces(mesh: &Mesh) -> Vec<FaceId> {
         })
         .map(FaceId::from_idx)
         .collect()
-}
-
-fn components(mesh: &Mesh, topo: &Topology) -> usize {
-    let n = mesh.num_faces();
-    let mut sets = UnionFind::<u32>::new(n);
-    for e in &topo.edges {
-        let [f, g] = e.faces;
-        if f.idx() < n && g.idx() < n {
-            sets.union(f.0, g.0);
-        }
-    }
-    (0..n as u32).filter(|&x| sets.find_mut(x) == x).count()
 }
 
 impl fmt::Display for Report {

@@ -1,0 +1,342 @@
+//! Input: a closed, oriented, manifold mesh without self-intersections.
+//! Output: the shells (connected components of its surface) whose
+//! orientation disagrees with where they lie: those that do not bound the
+//! material on their inner side alone (SPEC 1: faces counter-clockwise seen
+//! from outside).
+//!
+//! Shells of such a mesh are disjoint closed surfaces, so one shell lies
+//! wholly inside or wholly outside another, and the winding number of the
+//! whole surface is constant off it. The faces bound a solid exactly when
+//! that winding number is 0 or 1 everywhere: just outside a shell `S` it is
+//! the winding number `w` of the other shells around any vertex of `S`, and
+//! just inside it is `w + 1` if `S` faces outward (positive volume), `w - 1`
+//! if inward. So an outward shell needs `w = 0` and an inward one (a
+//! cavity) `w = 1`. Two nested outward cubes fail (the inner one has
+//! `w = 1`: material counted twice), as does an inward cube standing alone.
+//!
+//! The winding number of a shell `T` around a point `v` off it is counted
+//! along the vertical ray up from `v`, moved aside symbolically to
+//! `(vx + e, vy + e^2)` for a vanishing `e > 0` (simulation of simplicity),
+//! so that it meets no edge or vertex of `T`'s projection: each face whose
+//! projection holds the moved point and whose plane passes above `v` counts
+//! `+1` facing up, `-1` facing down. Every test is an exact orient2d,
+//! orient3d or comparison of doubles.
+//!
+//! A shell can only lie inside shells whose bounding boxes hold its own, so
+//! only those are counted: the cost is the number of faces of each shell's
+//! possible containers, summed over the shells.
+
+use crate::exact::predicates::{orient2d_xy, orient3d, Sign};
+use crate::exact::volume::volume_sign_of;
+use crate::ids::FaceId;
+use crate::mesh::topology::Topology;
+use crate::mesh::Mesh;
+use petgraph::unionfind::UnionFind;
+
+/// A shell whose orientation disagrees with its nesting.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MisnestedShell {
+    /// The shell's lowest face id.
+    pub face: FaceId,
+    /// The sign of the shell's own exact volume: positive facing outward.
+    pub volume: Sign,
+    /// The winding number of the other shells around it.
+    pub winding: i64,
+}
+
+/// The shells of a closed mesh, each as its faces in ascending order,
+/// ordered by their lowest face.
+pub fn shells(mesh: &Mesh, topo: &Topology) -> Vec<Vec<FaceId>> {
+    let n = mesh.num_faces();
+    let mut sets = UnionFind::<u32>::new(n);
+    for e in &topo.edges {
+        let [f, g] = e.faces;
+        if f.idx() < n && g.idx() < n {
+            sets.union(f.0, g.0);
+        }
+    }
+    let mut index = vec![u32::MAX; n];
+    let mut out: Vec<Vec<FaceId>> = Vec::new();
+    for f in 0..n as u32 {
+        let root = sets.find_mut(f) as usize;
+        if index[root] == u32::MAX {
+            index[root] = out.len() as u32;
+            out.push(Vec::new());
+        }
+        out[index[root] as usize].push(FaceId(f));
+    }
+    out
+}
+
+/// Every shell of `shells` (of a closed, oriented, manifold mesh with
+/// finite coordinates and no self-intersection) whose orientation
+/// disagrees with its nesting, in the order given.
+pub fn misnested_shells(mesh: &Mesh, shells: &[Vec<FaceId>]) -> Vec<MisnestedShell> {
+    if shells.len() < 2 {
+        return Vec::new();
+    }
+    let boxes: Vec<[[f64; 3]; 2]> = shells.iter().map(|s| bounding_box(mesh, s)).collect();
+    let mut out = Vec::new();
+    for (i, shell) in shells.iter().enumerate() {
+        let v = mesh.pos(mesh.faces[shell[0].idx()][0]);
+        let winding: i64 = (0..shells.len())
+            .filter(|&j| j != i && holds(&boxes[j], &boxes[i]))
+            .map(|j| winding_number(mesh, &shells[j], v))
+            .sum();
+        let volume = volume_sign_of(mesh, shell);
+        let expected = match volume {
+            Sign::Positive => 0,
+            Sign::Negative => 1,
+            // A closed surface without self-intersection bounds a region
+            // of positive volume; no winding number is right otherwise.
+            Sign::Zero => i64::MIN,
+        };
+        if winding != expected {
+            out.push(MisnestedShell {
+                face: shell[0],
+                volume,
+                winding,
+            });
+        }
+    }
+    out
+}
+
+fn bounding_box(mesh: &Mesh, faces: &[FaceId]) -> [[f64; 3]; 2] {
+    let mut bb = [[f64::INFINITY; 3], [f64::NEG_INFINITY; 3]];
+    for &f in faces {
+        for v in mesh.faces[f.idx()] {
+            let p = mesh.pos(v);
+            for k in 0..3 {
+                bb[0][k] = bb[0][k].min(p[k]);
+                bb[1][k] = bb[1][k].max(p[k]);
+            }
+        }
+    }
+    bb
+}
+
+/// Whether box `outer` holds box `inner` (closed boxes; exact comparisons).
+fn holds(outer: &[[f64; 3]; 2], inner: &[[f64; 3]; 2]) -> bool {
+    (0..3).all(|k| outer[0][k] <= inner[0][k] && inner[1][k] <= outer[1][k])
+}
+
+/// The winding number of the closed shell `faces` around `v`, a point off
+/// it (see the module documentation).
+fn winding_number(mesh: &Mesh, faces: &[FaceId], v: [f64; 3]) -> i64 {
+    let mut w = 0;
+    for &f in faces {
+        let [a, b, c] = mesh.faces[f.idx()].map(|u| mesh.pos(u));
+        // Cheap rejections first (exact comparisons): the face's box must
+        // reach the ray.
+        if a[2].max(b[2]).max(c[2]) < v[2]
+            || a[0].max(b[0]).max(c[0]) < v[0]
+            || a[0].min(b[0]).min(c[0]) > v[0]
+            || a[1].max(b[1]).max(c[1]) < v[1]
+            || a[1].min(b[1]).min(c[1]) > v[1]
+        {
+            continue;
+        }
+        let facing = orient2d_xy(a, b, c);
+        if facing == Sign::Zero {
+            // A vertical face: the moved ray misses its projection.
+            continue;
+        }
+        let inside = [(a, b), (b, c), (c, a)]
+            .iter()
+            .all(|&(p, q)| moved_orient(p, q, v) == facing);
+        // The plane is above v when orient3d(a, b, c, v) has the sign
+        // opposite to the facing (v is then on the side the normal leaves).
+        if inside && orient3d(a, b, c, v) == facing.flip() {
+            w += if facing == Sign::Positive { 1 } else { -1 };
+        }
+    }
+    w
+}
+
+/// orient2d of `(p, q, v')` in `(x, y)`, `v' = (vx + e, vy + e^2)` for a
+/// vanishing `e > 0`: the first non-zero of `orient2d(p, q, v)`,
+/// `qy - py` times `-1` (the `e` term) and `qx - px` (the `e^2` term).
+/// Never zero when `p != q` in `(x, y)`.
+fn moved_orient(p: [f64; 3], q: [f64; 3], v: [f64; 3]) -> Sign {
+    let s = orient2d_xy(p, q, v);
+    if s != Sign::Zero {
+        return s;
+    }
+    let dy = Sign::of_cmp(p[1].partial_cmp(&q[1]));
+    if dy != Sign::Zero {
+        return dy;
+    }
+    Sign::of_cmp(q[0].partial_cmp(&p[0]))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::validate::{validate, Defect, ShellFacing};
+
+    /// Appends the box `[lo, hi]` (12 faces) facing outward or inward,
+    /// each square split along one diagonal or the other (`flip`).
+    fn add_box(
+        pos: &mut Vec<[f64; 3]>,
+        faces: &mut Vec<[u32; 3]>,
+        lo: [f64; 3],
+        hi: [f64; 3],
+        outward: bool,
+        flip: bool,
+    ) {
+        let base = pos.len() as u32;
+        for k in 0..8 {
+            let pick = |axis: usize| {
+                if k >> axis & 1 == 1 {
+                    hi[axis]
+                } else {
+                    lo[axis]
+                }
+            };
+            pos.push([pick(0), pick(1), pick(2)]);
+        }
+        // Each side as four corners counter-clockwise seen from outside.
+        let sides = [
+            [0, 2, 3, 1], // z = lo
+            [4, 5, 7, 6], // z = hi
+            [0, 1, 5, 4], // y = lo
+            [2, 6, 7, 3], // y = hi
+            [0, 4, 6, 2], // x = lo
+            [1, 3, 7, 5], // x = hi
+        ];
+        for [a, b, c, d] in sides {
+            let tris = if flip {
+                [[a, b, c], [a, c, d]]
+            } else {
+                [[a, b, d], [b, c, d]]
+            };
+            for t in tris {
+                let t = t.map(|i| base + i);
+                faces.push(if outward { t } else { [t[0], t[2], t[1]] });
+            }
+        }
+    }
+
+    fn mesh_of(boxes: &[([f64; 3], [f64; 3], bool, bool)]) -> Mesh {
+        let (mut pos, mut faces) = (Vec::new(), Vec::new());
+        for &(lo, hi, outward, flip) in boxes {
+            add_box(&mut pos, &mut faces, lo, hi, outward, flip);
+        }
+        Mesh::from_raw(pos, faces)
+    }
+
+    fn misnested(m: &Mesh) -> Vec<(u32, Sign, i64)> {
+        let r = validate(m);
+        let topo = r.topology.as_ref().expect("closed");
+        misnested_shells(m, &shells(m, topo))
+            .iter()
+            .map(|s| (s.face.0, s.volume, s.winding))
+            .collect()
+    }
+
+    const OUTER: ([f64; 3], [f64; 3]) = ([0.0; 3], [4.0; 3]);
+
+    #[test]
+    fn a_solid_inside_a_solid_is_named() {
+        for flip in [false, true] {
+            // The inner box's first vertex (1, 1, 1) lies under the outer
+            // top's diagonal from (0, 0) to (4, 4) in one split: the moved
+            // ray decides.
+            let m = mesh_of(&[
+                (OUTER.0, OUTER.1, true, flip),
+                ([1.0; 3], [2.0; 3], true, !flip),
+            ]);
+            assert_eq!(misnested(&m), vec![(12, Sign::Positive, 1)]);
+            let r = validate(&m);
+            assert!(r.defects.contains(&Defect::MisnestedShell {
+                face: FaceId(12),
+                facing: ShellFacing::Outward,
+                winding: 1,
+            }));
+            assert!(!r.is_accepted());
+        }
+    }
+
+    #[test]
+    fn a_cavity_facing_inward_is_accepted() {
+        for flip in [false, true] {
+            let m = mesh_of(&[
+                (OUTER.0, OUTER.1, true, flip),
+                ([1.0; 3], [2.0; 3], false, flip),
+            ]);
+            assert_eq!(misnested(&m), vec![]);
+            assert!(validate(&m).is_accepted());
+            // A solid in the cavity, facing outward, is fine too.
+            let m = mesh_of(&[
+                (OUTER.0, OUTER.1, true, flip),
+                ([1.0; 3], [3.0; 3], false, !flip),
+                ([1.5; 3], [2.5; 3], true, flip),
+            ]);
+            assert_eq!(misnested(&m), vec![]);
+            // Facing inward, it is a cavity in empty space.
+            let m = mesh_of(&[
+                (OUTER.0, OUTER.1, true, flip),
+                ([1.0; 3], [3.0; 3], false, !flip),
+                ([1.5; 3], [2.5; 3], false, flip),
+            ]);
+            assert_eq!(misnested(&m), vec![(24, Sign::Negative, 0)]);
+        }
+    }
+
+    #[test]
+    fn an_inward_box_beside_a_solid_is_named() {
+        // The total volume stays positive (64 - 1): the volume sign alone
+        // would accept it.
+        let m = mesh_of(&[
+            (OUTER.0, OUTER.1, true, false),
+            ([5.0; 3], [6.0; 3], false, false),
+        ]);
+        assert_eq!(misnested(&m), vec![(12, Sign::Negative, 0)]);
+        assert!(!validate(&m).is_accepted());
+        // Side by side, both outward: no defect.
+        let m = mesh_of(&[
+            (OUTER.0, OUTER.1, true, false),
+            ([5.0; 3], [6.0; 3], true, true),
+        ]);
+        assert_eq!(misnested(&m), vec![]);
+    }
+
+    proptest::proptest! {
+        /// Concentric boxes of any orientation, on a lattice (so that
+        /// vertices line up with the diagonals and sides of the boxes
+        /// around them), and one box beside them: the named shells are
+        /// those whose facing disagrees with the orientations of the boxes
+        /// around them, summed by hand.
+        #[test]
+        fn nested_boxes_follow_the_hand_rule(
+            depth in 1usize..5,
+            outward in proptest::array::uniform5(proptest::bool::ANY),
+            flips in proptest::array::uniform5(proptest::bool::ANY),
+            jitter in proptest::array::uniform5(proptest::array::uniform3(0u8..2)),
+        ) {
+            let mut boxes = Vec::new();
+            for k in 0..depth {
+                let lo = std::array::from_fn(|a| (2 * k) as f64 + f64::from(jitter[k][a]));
+                let hi = std::array::from_fn(|a| 20.0 - (2 * k) as f64 - f64::from(jitter[k][a]));
+                boxes.push((lo, hi, outward[k], flips[k]));
+            }
+            boxes.push(([30.0, 0.0, 0.0], [31.0, 1.0, 1.0], outward[4], flips[4]));
+            let m = mesh_of(&boxes);
+            let mut expect = Vec::new();
+            let mut around = 0i64;
+            for (k, b) in boxes.iter().enumerate() {
+                // The box beside the others has none around it.
+                let w = if k == depth { 0 } else { around };
+                let ok = if b.2 { w == 0 } else { w == 1 };
+                if !ok {
+                    expect.push(((12 * k) as u32, if b.2 { Sign::Positive } else { Sign::Negative }, w));
+                }
+                if k < depth {
+                    around += if b.2 { 1 } else { -1 };
+                }
+            }
+            proptest::prop_assert_eq!(misnested(&m), expect);
+        }
+    }
+}
