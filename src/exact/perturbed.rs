@@ -99,7 +99,8 @@ impl<'a> EpsPoint<'a> {
 
     /// The exact velocity `d`.
     pub fn velocity(&self) -> &Point2 {
-        self.velocity.get_or_init(|| Box::new(self.motion.velocity()))
+        self.velocity
+            .get_or_init(|| Box::new(self.motion.velocity()))
     }
 }
 
