@@ -127,6 +127,31 @@ fn ascii_stl_parses_f64_text_exactly_and_fans_polygons() {
 }
 
 #[test]
+fn ascii_stl_reads_the_same_with_any_line_ends() {
+    // PrusaSlicer's test data holds a cube with classic Mac OS line ends
+    // (a bare \r): the solid's name ends at the first one, not at the end
+    // of the file.
+    let unix = "solid t name\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 0 1 0\n  endloop\n endfacet\nendsolid t\n";
+    let (expect, _) = load_bytes(unix.as_bytes(), None).unwrap();
+    for end in ["\r", "\r\n"] {
+        let text = unix.replace('\n', end);
+        let (mesh, report) = load_bytes(text.as_bytes(), None).unwrap();
+        assert_eq!(report.format, MeshFormat::StlAscii);
+        assert_eq!(
+            (mesh.positions.clone(), ids(&mesh)),
+            (expect.positions.clone(), ids(&expect))
+        );
+        // Errors name the line with either ending.
+        let bad = text.replace("vertex 0 1 0", "vertex 0 1 zero");
+        let err = load_bytes(bad.as_bytes(), None).unwrap_err();
+        assert!(
+            matches!(err, LoadError::Parse { line: Some(6), .. }),
+            "{end:?}: {err:?}"
+        );
+    }
+}
+
+#[test]
 fn ascii_stl_syntax_error_names_the_line() {
     let text = b"solid t\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 zero\n";
     let err = load_bytes(text, None).unwrap_err();

@@ -166,12 +166,22 @@ struct Tokens<'a> {
 }
 
 impl<'a> Tokens<'a> {
+    /// Whether the byte at `pos` ends a line: `\n`, or a `\r` not followed
+    /// by `\n` (classic Mac OS line ends; `\r\n` ends at its `\n`).
+    fn ends_line(&self, pos: usize) -> bool {
+        match self.bytes.get(pos) {
+            Some(b'\n') => true,
+            Some(b'\r') => self.bytes.get(pos + 1) != Some(&b'\n'),
+            _ => false,
+        }
+    }
+
     fn next(&mut self) -> Option<(&'a [u8], usize)> {
         while let Some(&b) = self.bytes.get(self.pos) {
             if !is_space(b) {
                 break;
             }
-            if b == b'\n' {
+            if self.ends_line(self.pos) {
                 self.line += 1;
             }
             self.pos += 1;
@@ -185,10 +195,7 @@ impl<'a> Tokens<'a> {
 
     /// Skips the rest of the current line (a solid's name).
     fn skip_line(&mut self) {
-        while let Some(&b) = self.bytes.get(self.pos) {
-            if b == b'\n' {
-                break;
-            }
+        while self.pos < self.bytes.len() && !self.ends_line(self.pos) {
             self.pos += 1;
         }
     }
