@@ -391,7 +391,7 @@ mod direct {
                     at,
                     last: false,
                 })
-                .map_err(|_| stopped())?;
+                .map_err(|_| why_stopped(&running.done))?;
             Ok((n, true))
         }
 
@@ -416,7 +416,7 @@ mod direct {
                 at: self.at,
                 last: true,
             })
-            .map_err(|_| stopped())?;
+            .map_err(|_| why_stopped(&done))?;
             drop(jobs);
             let mut outcome = Ok(());
             for r in done {
@@ -446,6 +446,13 @@ mod direct {
     /// The writer thread ended without saying why (it panicked).
     fn stopped() -> std::io::Error {
         std::io::Error::other("the output writer thread stopped")
+    }
+
+    /// Why the writer thread ended, once it has (a job could not be sent):
+    /// the write error it reported (a full disk, say), queued behind the
+    /// chunks it returned.
+    fn why_stopped(done: &Receiver<Result<Chunk>>) -> std::io::Error {
+        done.iter().find_map(|r| r.err()).unwrap_or_else(stopped)
     }
 }
 
@@ -547,6 +554,25 @@ mod tests {
             f.commit().unwrap();
             assert_eq!(std::fs::read(&path).unwrap(), bytes);
         }
+    }
+
+    /// A write the disk refuses in the writer thread (here: the file
+    /// opened read-only, so every write fails with EBADF, as a full disk
+    /// fails with ENOSPC) is reported as that error, not as a thread that
+    /// stopped.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn a_failed_direct_write_reports_its_error() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("read-only.bin");
+        std::fs::write(&path, b"").unwrap();
+        let file = std::fs::File::open(&path).unwrap();
+        let mut w = direct::start(&file).unwrap();
+        let piece = vec![7u8; 1 << 20];
+        let err = (0..64)
+            .find_map(|_| w.write(&piece).err())
+            .expect("a write fails");
+        assert_eq!(err.raw_os_error(), Some(libc::EBADF), "{err}");
     }
 
     /// A named pipe stays a pipe and gets the bytes (renaming over it, as
