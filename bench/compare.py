@@ -106,25 +106,38 @@ class Timeout(Exception):
 
 
 TIMEOUT = [None]
+# CPUs each timed process may run on (None: no pinning). A tool run "with
+# one thread" is pinned to one CPU: manifold3d is built with TBB and, left
+# alone, constructs a manifold on every core (about 1.8 cores here).
+PIN = [None]
 
 
-def run(cmd):
+def pinned(cpus):
+    """A preexec_fn that restricts the child to the first `cpus` CPUs it may use."""
+    if cpus is None:
+        return None
+    allowed = sorted(os.sched_getaffinity(0))[:cpus]
+    return lambda: os.sched_setaffinity(0, allowed)
+
+
+def run(cmd, cpus=1):
     try:
-        return subprocess.run(cmd, capture_output=True, text=True, timeout=TIMEOUT[0])
+        return subprocess.run(cmd, capture_output=True, text=True, timeout=TIMEOUT[0],
+                              preexec_fn=pinned(cpus if PIN[0] else None))
     except subprocess.TimeoutExpired:
         raise Timeout()
 
 
-def run_json(cmd):
-    out = run(cmd)
+def run_json(cmd, cpus=1):
+    out = run(cmd, cpus)
     if out.returncode != 0:
         raise RuntimeError(f"{' '.join(cmd)} failed ({out.returncode}): {out.stderr.strip()[-500:]}")
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
-def wall(cmd):
+def wall(cmd, cpus=1):
     t = time.perf_counter()
-    out = run(cmd)
+    out = run(cmd, cpus)
     s = time.perf_counter() - t
     if out.returncode != 0:
         raise RuntimeError(f"{' '.join(cmd)} failed ({out.returncode}): {out.stderr.strip()[-500:]}")
@@ -154,7 +167,7 @@ def tool_runner(tool, args, mesh, plan_args, levels_file, cli):
         threads = "2" if tool == "wmslice-2t" else "1"
 
         def once():
-            r = run_json([args.bench_slice, mesh, *plan_args, "--threads", threads])
+            r = run_json([args.bench_slice, mesh, *plan_args, "--threads", threads], int(threads))
             # Not timed: removing the previous run's output (freeing a large
             # file is the file system's work, not this run's) and flushing
             # earlier writes, so that this run's fsync waits for its own data.
@@ -162,7 +175,7 @@ def tool_runner(tool, args, mesh, plan_args, levels_file, cli):
             if os.path.exists(out):
                 os.remove(out)
             os.sync()
-            e2e = wall(cli)
+            e2e = wall(cli, int(threads))
             return dict(load_s=r["load_s"] + r["build_s"], slice_s=r["slice_s"], e2e_s=e2e,
                         contours=r["contours"])
     elif tool.startswith("cgal"):
@@ -207,7 +220,9 @@ def table(rows, machine, vers, args):
         "Versions: " + ", ".join(f"{k} {v}" for k, v in vers.items()),
         "",
         f"Command: `{args.command}` (median of {args.runs} runs per row, one thread each but"
-        " wmslice-2t (`--threads 2`);"
+        " wmslice-2t (`--threads 2`); "
+        + ("every process pinned to as many CPUs as threads (`sched_setaffinity`)"
+           if args.pin else "processes not pinned: manifold3d's TBB may use every core") + ";"
         f" a tool whose first run took over {args.cap:.0f} s was run once; timeout {t:.0f} s per run)",
         "",
         "| mesh | triangles | layers | tool | load+build s | slice s | end-to-end s | slice ratio | end-to-end ratio | curves |",
@@ -251,11 +266,14 @@ def main():
     ap.add_argument("--timeout", type=float, default=150.0, help="seconds per process")
     ap.add_argument("--tools", default="wmslice,wmslice-2t,manifold3d,cgal-epick,cgal-epeck,trimesh")
     ap.add_argument("--command", default="bench/compare")
+    ap.add_argument("--no-pin", dest="pin", action="store_false",
+                    help="do not pin each process to one CPU (two for wmslice-2t)")
     ap.add_argument("--shapes", nargs="+", default=["torus", "steps", "torus0", "knot", "steps64"],
                     help="torus, steps: on one small grid; torus0 (origin-centred f32 with noise "
                     "near zero), knot (decimal OBJ), steps64 (f64 CAD-like): real patterns")
     args = ap.parse_args()
     TIMEOUT[0] = args.timeout
+    PIN[0] = args.pin
     os.makedirs(args.out, exist_ok=True)
     tools = args.tools.split(",")
     if not args.cgal:

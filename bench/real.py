@@ -2,7 +2,7 @@
 (run by bench/compare with the venv's Python, or by hand):
 
     python real.py --wmslice PATH [--wmslice-base PATH] [--layers 2000] \
-        [--runs 3] [--out DIR] MESH...
+        [--runs 3] [--out DIR] [--no-pin] MESH...
 
 For each mesh (STL, OBJ, OFF, PLY): the layer height H is the height span
 over LAYERS rounded to four significant digits (a decimal), the planes
@@ -15,6 +15,10 @@ to the highest vertex), given to manifold3d as their nearest doubles.
 - manifold3d: `Manifold(Mesh(...))` plus `slice(z).to_polygons()` per
   level, timed inside the process (construction plus slicing; reading
   the file with trimesh is not counted).
+
+Each process is pinned to one CPU (`--no-pin`: not): the comparison is one
+thread against one thread, and manifold3d, built with TBB, would otherwise
+construct on every core.
 
 Prints a Markdown table (medians of RUNS; ratio = manifold3d / wmslice,
 above 1: wmslice is faster) and the geometric mean of the ratios.
@@ -88,9 +92,18 @@ def z_range(path):
     return Fraction(float(z.min())), Fraction(float(z.max()))
 
 
-def wall(cmd):
+def one_cpu(pin):
+    """A preexec_fn pinning the child to one CPU (None when `pin` is false):
+    manifold3d is built with TBB and otherwise constructs on every core."""
+    if not pin:
+        return None
+    cpu = min(os.sched_getaffinity(0))
+    return lambda: os.sched_setaffinity(0, {cpu})
+
+
+def wall(cmd, pin):
     t = time.perf_counter()
-    out = subprocess.run(cmd, capture_output=True, text=True)
+    out = subprocess.run(cmd, capture_output=True, text=True, preexec_fn=one_cpu(pin))
     s = time.perf_counter() - t
     if out.returncode != 0:
         raise RuntimeError(f"{' '.join(cmd)}: {out.stderr.strip()[-400:]}")
@@ -104,6 +117,8 @@ def main():
     ap.add_argument("--layers", type=int, default=2000)
     ap.add_argument("--runs", type=int, default=3)
     ap.add_argument("--out", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "out"))
+    ap.add_argument("--no-pin", dest="pin", action="store_false",
+                    help="do not pin each process to one CPU")
     ap.add_argument("meshes", nargs="+")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
@@ -141,7 +156,7 @@ def main():
                     if os.path.exists(out):
                         os.remove(out)
                     os.sync()
-                    s, err = wall(cmd)
+                    s, err = wall(cmd, args.pin)
                     times.append(s)
                     if s > 20:
                         break
@@ -159,7 +174,7 @@ def main():
         peer = []
         for _ in range(args.runs):
             r = subprocess.run([sys.executable, "-c", MANIFOLD, mesh, levels_file],
-                               capture_output=True, text=True)
+                               capture_output=True, text=True, preexec_fn=one_cpu(args.pin))
             if r.returncode != 0:
                 peer = None
                 row["manifold_error"] = r.stderr.strip()[-300:]
