@@ -491,3 +491,35 @@ fn a_solid_inside_a_solid_is_refused_by_check_and_slice_not_sliced() {
     }
     assert!(!out_json.exists());
 }
+
+#[test]
+fn open_edges_from_coincident_vertices_say_so() {
+    // The tetrahedron with its last face on copies of its vertices (as an
+    // indexed file with seams holds them; -0 equals +0): open edges, and
+    // each copy named beside the vertex it coincides with. A closed mesh
+    // gets no such note (its coincident vertices would intersect).
+    let mut m = tetra();
+    m.positions
+        .extend([[1., -0.0, 0.], [0., 1., 0.], [0., 0., 1.]]);
+    m.faces[3] = [v(4), v(5), v(6)];
+    let r = validate(&m);
+    assert!(!r.is_accepted());
+    let notes: Vec<_> = r
+        .defects
+        .iter()
+        .filter(|d| matches!(d, Defect::CoincidentVertex { .. }))
+        .cloned()
+        .collect();
+    assert_eq!(
+        notes,
+        [(4, 1), (5, 2), (6, 3)].map(|(a, b)| Defect::CoincidentVertex {
+            vertex: v(a),
+            first: v(b)
+        })
+    );
+    assert!(r.errors().all(|d| matches!(d, Defect::OpenEdge { .. })));
+    assert!(validate(&tetra())
+        .defects
+        .iter()
+        .all(|d| !matches!(d, Defect::CoincidentVertex { .. })));
+}

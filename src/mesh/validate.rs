@@ -193,6 +193,18 @@ pub enum Defect {
         /// Why no edge flip removed it.
         why: Unflippable,
     },
+    /// A used vertex at exactly the point of an earlier used vertex, in a
+    /// mesh that is not a closed manifold: the likely cause of its open
+    /// edges (an indexed file with seams, say). Listed as a note; such a
+    /// mesh is refused for its other defects. Indexed formats are taken as
+    /// given; `--snap` merges equal coordinates.
+    #[error("vertex {vertex} lies exactly where vertex {first} does: faces across them do not connect (--snap merges vertices with equal coordinates)")]
+    CoincidentVertex {
+        /// The later vertex.
+        vertex: VertexId,
+        /// The first vertex at that point.
+        first: VertexId,
+    },
     /// A vertex no face uses (accepted and ignored).
     #[error("vertex {vertex} is not used by any face")]
     UnusedVertex {
@@ -235,7 +247,7 @@ impl Defect {
     /// Whether this defect blocks slicing.
     pub fn severity(&self) -> Severity {
         match self {
-            Defect::UnusedVertex { .. } => Severity::Warning,
+            Defect::UnusedVertex { .. } | Defect::CoincidentVertex { .. } => Severity::Warning,
             _ => Severity::Error,
         }
     }
@@ -471,6 +483,11 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
             });
         }
     }
+    if !closed_manifold {
+        for (vertex, first) in coincident_vertices(mesh, &used) {
+            sink.push(Defect::CoincidentVertex { vertex, first });
+        }
+    }
     // The component count (a serial union-find) beside the fold check
     // (parallel over edges) and the self-intersection test.
     let geometric = finite && closed_manifold;
@@ -633,6 +650,27 @@ fn duplicates_among(mesh: &Mesh, faces: &[FaceId]) -> Vec<Defect> {
         }
     }
     found
+}
+
+/// Each used vertex at exactly the point of an earlier used one (`-0` and
+/// `+0` are one coordinate), with that first vertex.
+fn coincident_vertices(mesh: &Mesh, used: &[bool]) -> Vec<(VertexId, VertexId)> {
+    let key = |p: [f64; 3]| p.map(|x| if x == 0.0 { 0u64 } else { x.to_bits() });
+    let mut first: rustc_hash::FxHashMap<[u64; 3], VertexId> = Default::default();
+    let mut out = Vec::new();
+    for (i, p) in mesh.positions.iter().enumerate() {
+        if !used[i] {
+            continue;
+        }
+        let v = VertexId::from_idx(i);
+        match first.entry(key(*p)) {
+            std::collections::hash_map::Entry::Occupied(e) => out.push((v, *e.get())),
+            std::collections::hash_map::Entry::Vacant(e) => {
+                e.insert(v);
+            }
+        }
+    }
+    out
 }
 
 fn report_topology_issues(mesh: &Mesh, issues: Vec<TopologyIssue>, sink: &mut Sink) {
