@@ -54,10 +54,17 @@ pub struct Region {
 /// `(x, y)` projection.
 pub fn face_facing(mesh: &Mesh, f: FaceId) -> Facing {
     let [a, b, c] = mesh.faces[f.idx()].map(|v| mesh.pos(v));
-    match orient2d_xy(a, b, c) {
-        Sign::Positive => Facing::Up,
-        Sign::Negative => Facing::Down,
-        Sign::Zero => Facing::Flat,
+    Facing::of_orientation(orient2d_xy(a, b, c))
+}
+
+impl Facing {
+    /// The facing of a face whose `(x, y)` projection has this orientation.
+    fn of_orientation(s: Sign) -> Facing {
+        match s {
+            Sign::Positive => Facing::Up,
+            Sign::Negative => Facing::Down,
+            Sign::Zero => Facing::Flat,
+        }
     }
 }
 
@@ -122,11 +129,7 @@ pub fn face_regions(
                 continue;
             };
             if facing == Facing::Flat {
-                facing = match area.sign() {
-                    Sign::Positive => Facing::Up,
-                    Sign::Negative => Facing::Down,
-                    Sign::Zero => Facing::Flat,
-                };
+                facing = Facing::of_orientation(area.sign());
             }
             twice.add_abs(&area);
         }

@@ -18,13 +18,9 @@ impl Dyadic {
         Dyadic { m, e }
     }
 
-    /// The sign of the value: `-1`, `0` or `1`.
-    pub fn signum(&self) -> i32 {
-        match self.m.sign() {
-            num_bigint::Sign::Minus => -1,
-            num_bigint::Sign::NoSign => 0,
-            num_bigint::Sign::Plus => 1,
-        }
+    /// The sign of the value, exactly.
+    pub fn sign(&self) -> super::Sign {
+        super::Sign::of_int(&self.m)
     }
 
     /// Adds `|x|` exactly.

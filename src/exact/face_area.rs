@@ -29,14 +29,9 @@ pub enum TwiceArea {
 impl TwiceArea {
     /// The sign, exactly.
     pub fn sign(&self) -> Sign {
-        let s = match self {
-            TwiceArea::Wide { m, .. } => m.signum().as_i32(),
-            TwiceArea::Big(d) => d.signum(),
-        };
-        match s {
-            0 => Sign::Zero,
-            s if s > 0 => Sign::Positive,
-            _ => Sign::Negative,
+        match self {
+            TwiceArea::Wide { m, .. } => Sign::of_ordering(m.cmp(&I256::ZERO)),
+            TwiceArea::Big(d) => d.sign(),
         }
     }
 }

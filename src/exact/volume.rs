@@ -101,11 +101,7 @@ pub fn volume_sign_of(mesh: &Mesh, faces: &[crate::ids::FaceId]) -> Sign {
     for (e, v) in sum.buckets {
         wide.add(&BigInt::from(v), e);
     }
-    match wide.signum() {
-        0 => Sign::Zero,
-        s if s > 0 => Sign::Positive,
-        _ => Sign::Negative,
-    }
+    wide.sign()
 }
 
 /// The sign of [`signed_volume`] when a floating-point sum decides it,
