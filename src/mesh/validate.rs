@@ -9,8 +9,10 @@
 //! vertex in a face, no duplicate face, no degenerate face (three collinear
 //! vertices: those an edge flip removes are removed before, by
 //! [`crate::mesh::flip`], so one left is named with the reason it could not
-//! be flipped), and exact signed volume > 0. Unused vertices are reported
-//! as warnings. Every test is exact.
+//! be flipped), exact signed volume > 0, and every shell facing the way
+//! its place among the others demands ([`crate::mesh::shells`]). Unused
+//! vertices are reported as warnings, and so, in a mesh that is not
+//! closed, are vertices at the point of another. Every test is exact.
 //!
 //! Folds and self-intersections are decided for closed, oriented, manifold
 //! meshes with finite coordinates (the others are rejected already), by
