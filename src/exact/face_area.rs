@@ -92,20 +92,17 @@ impl MagnitudeSum {
             (self.low, self.e) = (m, e);
             return;
         }
-        // The addend and the sum on the lower of the two grids, when the
-        // shift loses no bit; then the sum, when it does not carry out.
-        let (lower, shifted, s) = if e >= self.e {
-            (self.e, m, e - self.e)
+        // The one on the higher grid is rewritten on the lower one (its
+        // integer shifted `s` places up) when no bit leaves the top; then
+        // the two are added, when the sum does not carry out.
+        let (kept, lifted, s, lower) = if e >= self.e {
+            (self.low, m, e - self.e, self.e)
         } else {
-            (e, self.low, self.e - e)
+            (m, self.low, self.e - e, e)
         };
-        if s.unsigned_abs() < shifted.leading_zeros() {
-            let (a, b) = if e >= self.e {
-                (self.low, m << s.unsigned_abs())
-            } else {
-                (self.low << s.unsigned_abs(), m)
-            };
-            if let Some(sum) = a.checked_add(b) {
+        let s = s.unsigned_abs();
+        if s < lifted.leading_zeros() {
+            if let Some(sum) = kept.checked_add(lifted << s) {
                 (self.low, self.e) = (sum, lower);
                 return;
             }
