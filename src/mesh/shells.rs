@@ -34,13 +34,35 @@ use crate::mesh::topology::Topology;
 use crate::mesh::Mesh;
 use petgraph::unionfind::UnionFind;
 
+/// Which way a shell faces: the sign of the exact volume it encloses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ShellFacing {
+    /// Positive volume: normals point away from the region it bounds.
+    Outward,
+    /// Negative volume: normals point into the region it bounds.
+    Inward,
+    /// Zero volume.
+    Flat,
+}
+
+impl std::fmt::Display for ShellFacing {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            ShellFacing::Outward => "outward",
+            ShellFacing::Inward => "inward",
+            ShellFacing::Flat => "nowhere (zero volume)",
+        })
+    }
+}
+
 /// A shell whose orientation disagrees with its nesting.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MisnestedShell {
     /// The shell's lowest face id.
     pub face: FaceId,
-    /// The sign of the shell's own exact volume: positive facing outward.
-    pub volume: Sign,
+    /// Which way the shell faces (the sign of its own exact volume).
+    pub facing: ShellFacing,
     /// The winding number of the other shells around it.
     pub winding: i64,
 }
@@ -94,18 +116,22 @@ pub fn misnested_shells(mesh: &Mesh, shells: &[Vec<FaceId>]) -> Vec<MisnestedShe
             .filter(|f| shell_of[f.idx()] != i as u32)
             .map(|&f| crossing(mesh, f, v))
             .sum();
-        let volume = volume_sign_of(mesh, shell);
-        let expected = match volume {
-            Sign::Positive => 0,
-            Sign::Negative => 1,
-            // A closed surface without self-intersection bounds a region
-            // of positive volume; no winding number is right otherwise.
-            Sign::Zero => i64::MIN,
+        let facing = match volume_sign_of(mesh, shell) {
+            Sign::Positive => ShellFacing::Outward,
+            Sign::Negative => ShellFacing::Inward,
+            Sign::Zero => ShellFacing::Flat,
         };
-        if winding != expected {
+        // A closed surface without self-intersection bounds a region of
+        // positive volume; no winding number is right for a flat one.
+        let expected = match facing {
+            ShellFacing::Outward => Some(0),
+            ShellFacing::Inward => Some(1),
+            ShellFacing::Flat => None,
+        };
+        if expected != Some(winding) {
             out.push(MisnestedShell {
                 face: shell[0],
-                volume,
+                facing,
                 winding,
             });
         }
@@ -275,7 +301,7 @@ fn moved_orient(p: [f64; 3], q: [f64; 3], v: [f64; 3]) -> Sign {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::validate::{validate, Defect, ShellFacing};
+    use crate::mesh::validate::{validate, Defect};
 
     /// Appends the box `[lo, hi]` (12 faces) facing outward or inward,
     /// each square split along one diagonal or the other (`flip`).
@@ -328,12 +354,12 @@ mod tests {
         Mesh::from_raw(pos, faces)
     }
 
-    fn misnested(m: &Mesh) -> Vec<(u32, Sign, i64)> {
+    fn misnested(m: &Mesh) -> Vec<(u32, ShellFacing, i64)> {
         let r = validate(m);
         let topo = r.topology.as_ref().expect("closed");
         misnested_shells(m, &shells(m, topo))
             .iter()
-            .map(|s| (s.face.0, s.volume, s.winding))
+            .map(|s| (s.face.0, s.facing, s.winding))
             .collect()
     }
 
@@ -349,7 +375,7 @@ mod tests {
                 (OUTER.0, OUTER.1, true, flip),
                 ([1.0; 3], [2.0; 3], true, !flip),
             ]);
-            assert_eq!(misnested(&m), vec![(12, Sign::Positive, 1)]);
+            assert_eq!(misnested(&m), vec![(12, ShellFacing::Outward, 1)]);
             let r = validate(&m);
             assert!(r.defects.contains(&Defect::MisnestedShell {
                 face: FaceId(12),
@@ -382,7 +408,7 @@ mod tests {
                 ([1.0; 3], [3.0; 3], false, !flip),
                 ([1.5; 3], [2.5; 3], false, flip),
             ]);
-            assert_eq!(misnested(&m), vec![(24, Sign::Negative, 0)]);
+            assert_eq!(misnested(&m), vec![(24, ShellFacing::Inward, 0)]);
         }
     }
 
@@ -394,7 +420,7 @@ mod tests {
             (OUTER.0, OUTER.1, true, false),
             ([5.0; 3], [6.0; 3], false, false),
         ]);
-        assert_eq!(misnested(&m), vec![(12, Sign::Negative, 0)]);
+        assert_eq!(misnested(&m), vec![(12, ShellFacing::Inward, 0)]);
         assert!(!validate(&m).is_accepted());
         // Side by side, both outward: no defect.
         let m = mesh_of(&[
@@ -421,7 +447,7 @@ mod tests {
         let m = mesh_of(&boxes);
         assert_eq!(
             misnested(&m),
-            vec![((12 * (1 + 3 * 10 + 7)) as u32, Sign::Positive, 1)]
+            vec![((12 * (1 + 3 * 10 + 7)) as u32, ShellFacing::Outward, 1)]
         );
     }
 
@@ -453,7 +479,7 @@ mod tests {
                 let w = if k == depth { 0 } else { around };
                 let ok = if b.2 { w == 0 } else { w == 1 };
                 if !ok {
-                    expect.push(((12 * k) as u32, if b.2 { Sign::Positive } else { Sign::Negative }, w));
+                    expect.push(((12 * k) as u32, if b.2 { ShellFacing::Outward } else { ShellFacing::Inward }, w));
                 }
                 if k < depth {
                     around += if b.2 { 1 } else { -1 };

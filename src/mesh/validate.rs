@@ -30,8 +30,10 @@ use crate::exact::volume::{signed_volume, volume_sign_filter};
 use crate::ids::{FaceId, VertexId};
 use crate::mesh::flip::{diagnose, Unflippable};
 use crate::mesh::intersect::{face_pairs, EdgeOverlap};
+pub use crate::mesh::shells::ShellFacing;
 use crate::mesh::shells::{misnested_shells, shells};
 use crate::mesh::topology::{Topology, TopologyIssue, NO_FACE};
+use crate::mesh::weld::coordinate_key;
 use crate::mesh::Mesh;
 use crate::par;
 use num_traits::Signed;
@@ -213,28 +215,6 @@ pub enum Defect {
         /// The vertex.
         vertex: VertexId,
     },
-}
-
-/// Which way a shell faces: the sign of the exact volume it encloses.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum ShellFacing {
-    /// Positive volume: normals point away from the region it bounds.
-    Outward,
-    /// Negative volume: normals point into the region it bounds.
-    Inward,
-    /// Zero volume.
-    Flat,
-}
-
-impl fmt::Display for ShellFacing {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            ShellFacing::Outward => "outward",
-            ShellFacing::Inward => "inward",
-            ShellFacing::Flat => "nowhere (zero volume)",
-        })
-    }
 }
 
 fn list(faces: &[FaceId]) -> String {
@@ -551,11 +531,7 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
         for m in misnested_shells(mesh, &shells) {
             sink.push(Defect::MisnestedShell {
                 face: m.face,
-                facing: match m.volume {
-                    Sign::Positive => ShellFacing::Outward,
-                    Sign::Negative => ShellFacing::Inward,
-                    Sign::Zero => ShellFacing::Flat,
-                },
+                facing: m.facing,
                 winding: m.winding,
             });
         }
@@ -657,7 +633,7 @@ fn duplicates_among(mesh: &Mesh, faces: &[FaceId]) -> Vec<Defect> {
 /// Each used vertex at exactly the point of an earlier used one (`-0` and
 /// `+0` are one coordinate), with that first vertex.
 fn coincident_vertices(mesh: &Mesh, used: &[bool]) -> Vec<(VertexId, VertexId)> {
-    let key = |p: [f64; 3]| p.map(|x| if x == 0.0 { 0u64 } else { x.to_bits() });
+    let key = |p: [f64; 3]| p.map(coordinate_key);
     let mut first: rustc_hash::FxHashMap<[u64; 3], VertexId> = Default::default();
     let mut out = Vec::new();
     for (i, p) in mesh.positions.iter().enumerate() {

@@ -48,7 +48,7 @@ pub enum WeldError {
 /// The hash key of one coordinate: its bit pattern with `-0.0` folded onto
 /// `+0.0`. Only called for non-NaN values (NaN corners are never looked up).
 #[inline]
-fn coordinate_key(x: f64) -> u64 {
+pub(crate) fn coordinate_key(x: f64) -> u64 {
     if x == 0.0 {
         0
     } else {
