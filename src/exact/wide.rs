@@ -134,8 +134,10 @@ mod tests {
 
     #[test]
     fn ties_round_to_even() {
-        // Hand-derived, with exact input doubles (no tolerance: `d(k)` is
-        // the k-th double above 1, `1 + k 2^-52`). The edge from x = 1 to
+        // The one rounding of the crossing, to its nearest double for
+        // output (SPEC 2: ties to even); every decision uses the exact
+        // value. Hand-derived, on exact input doubles: `d(k)` is the k-th
+        // double above 1, `1 + k 2^-52`. The edge from x = 1 to
         // d(1) cut at its middle has x = 1 + 2^-53, halfway between 1 and
         // d(1): ties to even give 1. From 1 to d(3), the middle
         // 1 + 3 2^-53 lies halfway between d(1) (odd) and d(2) (even).
