@@ -440,6 +440,83 @@ fn ply_negative_index_is_a_typed_error() {
     );
 }
 
+/// A PLY with the corners of a tetrahedron and one `tristrips` element
+/// holding `strips` (an `int` list: `-1` separates strips).
+fn ply_tristrips(format: &str, strips: &[i32]) -> Vec<u8> {
+    let mut b = format!(
+        "ply\nformat {format} 1.0\nelement vertex 4\nproperty float x\nproperty float y\n\
+         property float z\nelement tristrips 1\nproperty list int int vertex_indices\nend_header\n"
+    )
+    .into_bytes();
+    let corners: [[f32; 3]; 4] = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    if format == "ascii" {
+        for p in corners {
+            b.extend_from_slice(format!("{} {} {}\n", p[0], p[1], p[2]).as_bytes());
+        }
+        let list: Vec<String> = strips.iter().map(i32::to_string).collect();
+        b.extend_from_slice(format!("{} {}\n", strips.len(), list.join(" ")).as_bytes());
+    } else {
+        for v in corners.iter().flatten() {
+            b.extend_from_slice(&v.to_le_bytes());
+        }
+        b.extend_from_slice(&(strips.len() as i32).to_le_bytes());
+        for v in strips {
+            b.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    b
+}
+
+#[test]
+fn ply_tristrips_become_triangles_of_one_orientation() {
+    // Two strips: `1 0 2` is the triangle (1 0 2) (facing -z, outward);
+    // `2 0 3 1 2 2` is (2 0 3), then (0 3 1) turned to (3 0 1), then
+    // (3 1 2) kept, then (1 2 2), a joint with a repeated id, dropped.
+    let strips = [1, 0, 2, -1, 2, 0, 3, 1, 2, 2];
+    for format in ["ascii", "binary_little_endian"] {
+        let (mesh, report) = load_bytes(&ply_tristrips(format, &strips), None).unwrap();
+        assert_eq!(
+            ids(&mesh),
+            vec![[1, 0, 2], [2, 0, 3], [3, 0, 1], [3, 1, 2]],
+            "{format}"
+        );
+        assert!(
+            report.notes.contains(&LoadNote::Strips {
+                strips: 2,
+                triangles: 4,
+                joints: 1
+            }),
+            "{:?}",
+            report.notes
+        );
+        // Every edge in both directions once: the closed tetrahedron,
+        // facing outward.
+        let v = wmslice::mesh::validate::validate(&mesh);
+        assert!(v.is_accepted(), "{format}: {:?}", v.defects);
+        assert!(v.defects.is_empty(), "{format}: {:?}", v.defects);
+    }
+}
+
+#[test]
+fn ply_tristrips_refuse_other_negative_ids() {
+    let err = load_bytes(&ply_tristrips("ascii", &[1, 0, 2, -2, 3]), None).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            LoadError::InvalidIndex {
+                reason: InvalidIndexReason::Negative,
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+}
+
 // ---------------------------------------------------------------- 3MF
 
 const NS: &str = "http://schemas.microsoft.com/3dmanufacturing/core/2015/02";

@@ -140,6 +140,15 @@ pub enum LoadNote {
         /// Triangles they became.
         triangles: usize,
     },
+    /// PLY triangle strips were split into triangles.
+    Strips {
+        /// Strips read.
+        strips: usize,
+        /// Triangles they became.
+        triangles: usize,
+        /// Triangles with a repeated vertex id (the strips' joints), dropped.
+        joints: usize,
+    },
     /// A triangle soup (STL) was welded by exact coordinate equality.
     Welded {
         /// Corners read (three per triangle).
@@ -188,6 +197,15 @@ impl fmt::Display for LoadNote {
             } => write!(
                 f,
                 "triangulated {polygons} polygons into {triangles} triangles (fans)"
+            ),
+            LoadNote::Strips {
+                strips,
+                triangles,
+                joints,
+            } => write!(
+                f,
+                "read {strips} triangle strips as {triangles} triangles \
+                 ({joints} joining triangles with a repeated vertex dropped)"
             ),
             LoadNote::Welded { corners, vertices } => write!(
                 f,

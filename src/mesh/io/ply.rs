@@ -1,8 +1,11 @@
 //! Input: PLY bytes (ASCII, binary little or big endian). Output: a
 //! [`Mesh`] from the `vertex` element (`x`, `y`, `z` of any numeric type,
 //! converted to `f64` exactly) and the `face` element (`vertex_indices` or
-//! `vertex_index`, a list of any integer type), polygons split into fans;
-//! and the PLY writer (doubles, `uint` indices). Both through `ply-rs-bw`.
+//! `vertex_index`, a list of any integer type), polygons split into fans,
+//! or from the `tristrips` element of scanned models (strips separated by
+//! `-1`, every other triangle turned, joints with a repeated id
+//! dropped); and the PLY writer (doubles, `uint` indices).
+//! Both through `ply-rs-bw`.
 //!
 //! Before the payload is parsed, the element counts are checked against the
 //! bytes that follow (each element takes at least its binary size, or two
@@ -49,8 +52,9 @@ fn format_of(encoding: Encoding) -> MeshFormat {
 struct Element {
     xyz: [f64; 3],
     indices: Vec<u32>,
-    /// A negative value in the index list (cannot be a vertex id).
-    negative_index: Option<i64>,
+    /// The negative values of the index list (no vertex id; `-1` separates
+    /// triangle strips), each with the number of ids before it.
+    negatives: Vec<(usize, i64)>,
 }
 
 fn coordinate_slot(name: &str) -> Option<usize> {
@@ -86,14 +90,13 @@ impl Element {
             return PropertyAccessResult::Ignored;
         }
         self.indices.clear();
+        self.negatives.clear();
         self.indices.reserve(values.len());
         for &v in values {
             let v: i64 = v.into();
             match u32::try_from(v) {
                 Ok(i) => self.indices.push(i),
-                Err(_) => {
-                    self.negative_index.get_or_insert(v);
-                }
+                Err(_) => self.negatives.push((self.indices.len(), v)),
             }
         }
         PropertyAccessResult::Set
@@ -231,6 +234,7 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
 
     let mut positions: Vec<[f64; 3]> = Vec::new();
     let mut sink = FaceSink::new(format, 0);
+    let mut strips = StripSink::default();
     let mut have_vertices = false;
     let mut ignored: Vec<(String, usize)> = Vec::new();
     for def in header.elements.values() {
@@ -251,15 +255,18 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
             }
             "face" => {
                 for e in &elements {
-                    if let Some(v) = e.negative_index {
-                        return Err(LoadError::InvalidIndex {
-                            format,
-                            line: None,
-                            text: v.to_string(),
-                            reason: super::InvalidIndexReason::Negative,
-                        });
+                    if let Some(&(_, v)) = e.negatives.first() {
+                        return Err(negative_index(format, v));
                     }
                     sink.push(&e.indices)?;
+                }
+            }
+            "tristrips" => {
+                for e in &elements {
+                    if let Some(&(_, v)) = e.negatives.iter().find(|(_, v)| *v != -1) {
+                        return Err(negative_index(format, v));
+                    }
+                    strips.push(&e.indices, &e.negatives, &mut sink)?;
                 }
             }
             _ => ignored.push((def.name.clone(), elements.len())),
@@ -275,6 +282,7 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
 
     let mut notes: Vec<LoadNote> = Vec::new();
     notes.extend(sink.note());
+    notes.extend(strips.note());
     for (name, count) in ignored {
         notes.push(LoadNote::Ignored {
             kind: format!("`{name}` elements"),
@@ -294,8 +302,75 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
     Ok((mesh, LoadReport { format, notes }))
 }
 
-/// The vertex element needs scalar `x`, `y`, `z`; the face element an
-/// integer list `vertex_indices` (or `vertex_index`).
+fn negative_index(format: MeshFormat, v: i64) -> LoadError {
+    LoadError::InvalidIndex {
+        format,
+        line: None,
+        text: v.to_string(),
+        reason: super::InvalidIndexReason::Negative,
+    }
+}
+
+/// Triangle strips (the `tristrips` element of scanned models, as the
+/// Stanford range-scan tools write it): each element's index list holds
+/// strips separated by `-1`; strip `s0 s1 s2 s3 ...` is the triangles
+/// `(s0 s1 s2)`, `(s2 s1 s3)`, `(s2 s3 s4)`, ... (every other one turned so
+/// that all keep the first one's orientation). A triangle with a repeated
+/// vertex id is how strips are joined, not a face: it is dropped (a
+/// decision on ids alone) and counted in the note.
+#[derive(Debug, Default)]
+struct StripSink {
+    strips: usize,
+    triangles: usize,
+    joints: usize,
+}
+
+impl StripSink {
+    /// Adds the strips of one element: `ids` with the `-1` separators
+    /// taken out, `breaks` saying how many ids come before each.
+    fn push(
+        &mut self,
+        ids: &[u32],
+        breaks: &[(usize, i64)],
+        sink: &mut FaceSink,
+    ) -> Result<(), LoadError> {
+        let mut start = 0;
+        let ends = breaks.iter().map(|&(at, _)| at).chain([ids.len()]);
+        for end in ends {
+            let strip = &ids[start..end];
+            start = end;
+            if strip.is_empty() {
+                continue;
+            }
+            self.strips += 1;
+            for (k, w) in strip.windows(3).enumerate() {
+                if w[0] == w[1] || w[1] == w[2] || w[0] == w[2] {
+                    self.joints += 1;
+                    continue;
+                }
+                let triangle = if k % 2 == 0 {
+                    [w[0], w[1], w[2]]
+                } else {
+                    [w[1], w[0], w[2]]
+                };
+                sink.push(&triangle)?;
+                self.triangles += 1;
+            }
+        }
+        Ok(())
+    }
+
+    fn note(&self) -> Option<LoadNote> {
+        (self.strips > 0).then_some(LoadNote::Strips {
+            strips: self.strips,
+            triangles: self.triangles,
+            joints: self.joints,
+        })
+    }
+}
+
+/// The vertex element needs scalar `x`, `y`, `z`; the face and tristrips
+/// elements an integer list `vertex_indices` (or `vertex_index`).
 fn check_header(header: &Header, format: MeshFormat) -> Result<(), LoadError> {
     let missing = |message: String| LoadError::Parse {
         format,
@@ -319,7 +394,10 @@ fn check_header(header: &Header, format: MeshFormat) -> Result<(), LoadError> {
             }
         }
     }
-    if let Some(f) = header.elements.get("face") {
+    for f in ["face", "tristrips"]
+        .iter()
+        .filter_map(|n| header.elements.get(*n))
+    {
         let list = f
             .properties
             .iter()
@@ -328,14 +406,16 @@ fn check_header(header: &Header, format: MeshFormat) -> Result<(), LoadError> {
         match list {
             Some(PropertyType::List(count, item)) if is_integer(count) && is_integer(item) => {}
             Some(_) => {
-                return Err(missing(
-                    "the face index list must be a list of integers".to_owned(),
-                ))
+                return Err(missing(format!(
+                    "the {} index list must be a list of integers",
+                    f.name
+                )))
             }
             None => {
-                return Err(missing(
-                    "the face element has no `vertex_indices` list".to_owned(),
-                ))
+                return Err(missing(format!(
+                    "the {} element has no `vertex_indices` list",
+                    f.name
+                )))
             }
         }
     }
