@@ -1,6 +1,10 @@
 //! Input: every built-in dataset at every distinct vertex height and the
 //! midpoints between consecutive ones, and 1000 random closed slabs with
-//! integer coordinates (many ties) at the same kinds of levels.
+//! integer coordinates (many ties) at the same kinds of levels, and the
+//! meshes with the coordinate patterns of real files (`bench/meshgen.rs`:
+//! `f32` noise near zero, decimal OBJ, an `f64` part with flats) at their
+//! vertex heights, midpoints, decimal levels and levels whose crossings
+//! tie between two doubles.
 //! Output: a pass when the Rust level set agrees element by element with the
 //! independent CGAL oracle (`wmslice::oracle`, feature `cgal-oracle`): vertex
 //! signs, faces in the plane (and facing), the class of every in-plane edge,
@@ -15,11 +19,16 @@
 
 mod common;
 
+#[path = "../bench/meshgen.rs"]
+#[allow(dead_code)]
+mod meshgen;
+
 use common::Slab;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 use wmslice::classify::{Facing, RidgeKind};
 use wmslice::datasets::slab::heights_and_midpoints;
+use wmslice::exact::parse_rational;
 use wmslice::exact::rational::Rat;
 use wmslice::oracle::compare::{compare_answers, compare_levels, Coverage};
 use wmslice::oracle::{oracle_classify, OracleEdgeClass};
@@ -83,6 +92,39 @@ fn every_dataset_agrees_with_cgal_at_every_vertex_height_and_midpoint() {
     );
     assert!(failures.is_empty(), "{}", failures.join("\n"));
     assert!(cov.saddles_by_branches.contains_key(&6) && cov.saddles_by_branches.contains_key(&8));
+}
+
+#[test]
+fn real_coordinate_patterns_agree_with_cgal() {
+    // Small versions of `bench/compare`'s torus0, knot and steps64: their
+    // crossings take the per-edge, certified and wide number paths, and
+    // steps64's flats put faces in the plane with off-grid x and y.
+    let meshes = [
+        ("torus0", meshgen::torus_origin(24, 8)),
+        ("knot", meshgen::knot(24, 6)),
+        ("steps64", meshgen::steps_f64(4)),
+    ];
+    let mut failures = Vec::new();
+    let mut cov = Coverage::default();
+    for (name, b) in &meshes {
+        let mesh = b.to_mesh();
+        let mut levels = heights_and_midpoints(&mesh);
+        let (lo, hi) = (levels[0].clone(), levels[levels.len() - 1].clone());
+        // Decimal levels as a user types them, and simple fractions of the
+        // stepped part's 1.25 steps (ties between two doubles).
+        let decimals = (-300..=300).map(|k| Rat::new(k.into(), 10.into()));
+        let ties = ["1/3", "3/8", "7/8", "21/8"].map(|c| parse_rational(c).unwrap());
+        levels.extend(decimals.chain(ties).filter(|c| *c > lo && *c < hi));
+        if let Err(e) = compare_levels(&mesh, &levels, &mut cov) {
+            failures.push(format!("{name}: {e}"));
+        }
+    }
+    println!(
+        "compared {} levels with the CGAL oracle: {cov:?}",
+        cov.levels
+    );
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(cov.in_plane_faces > 0 && cov.extrema > 0, "{cov:?}");
 }
 
 /// Runs `cases` random meshes from `strategy` through the comparison with
