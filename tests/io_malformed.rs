@@ -300,6 +300,43 @@ fn off_missing_faces_is_truncated() {
 }
 
 #[test]
+fn off_face_indices_run_on_over_lines() {
+    // The first face's indices take three lines (a comment between), the
+    // second's two; the color after the last index is ignored.
+    let text =
+        b"OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0\n1 # c\n2\n3 255 0 0\n3 0\n2 3 0.5 0.5 0.5\n";
+    let (mesh, _) = load_bytes(text, None).unwrap();
+    assert_eq!(ids(&mesh), vec![[0, 1, 2], [0, 2, 3], [0, 2, 3]]);
+}
+
+#[test]
+fn off_face_line_listing_too_few_indices_is_refused() {
+    // `3 0 1` takes the next line's `3` as its third index and the rest of
+    // that line as color: the second face line is missing.
+    let text = b"OFF\n3 2 0\n0.0 0.0 0.0\n1.0 0.0 0.0\n0.0 1.0 0.0\n3 0 1\n3 0 1 2\n";
+    let err = load_bytes(text, None).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            LoadError::Truncated {
+                format: MeshFormat::Off,
+                what: "faces",
+                expected: 2,
+                got: 1
+            }
+        ),
+        "{err:?}"
+    );
+    // The last face line short: nothing follows to complete it.
+    let text = b"OFF\n3 1 0\n0.0 0.0 0.0\n1.0 0.0 0.0\n0.0 1.0 0.0\n3 0 1\n";
+    let err = load_bytes(text, None).unwrap_err();
+    assert!(
+        matches!(err, LoadError::Parse { format: MeshFormat::Off, line: Some(6), ref message } if message.contains("lists fewer")),
+        "{err:?}"
+    );
+}
+
+#[test]
 fn binary_off_is_unsupported() {
     let err = load_bytes(b"OFF BINARY\n\0\0\0\x03", Some(MeshFormat::Off)).unwrap_err();
     assert!(

@@ -6,7 +6,11 @@
 //!
 //! Vertex lines: the first three numbers (colors, normals, texture
 //! coordinates after them are ignored). Face lines: `k i1 .. ik`, then
-//! ignored color values. Indices are 0-based; indices past the vertex count
+//! ignored color values; a face whose indices do not fit its line runs on
+//! over the next ones (as CGAL and libigl read it), and the rest of the
+//! line holding its last index is color. A face line that really lists
+//! too few indices then takes the next face's line, and the file runs out
+//! of face lines: refused as truncated. Indices are 0-based; indices past the vertex count
 //! load as they are (validation reports them). The counts are checked
 //! against the bytes that follow before any allocation.
 
@@ -192,14 +196,23 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
                 )
             })?;
         ids.clear();
+        // The indices may run on over the next lines (as CGAL and libigl
+        // read them); the rest of the line holding the last one is color.
+        let mut at = n;
         for _ in 0..k {
-            let t = toks.next().ok_or_else(|| {
-                parse_err(
-                    n,
-                    format!("the face announces {k} vertices but lists fewer"),
-                )
-            })?;
-            ids.push(parse_index_u32(FORMAT, Some(n), t)?);
+            let t = loop {
+                if let Some(t) = toks.next() {
+                    break t;
+                }
+                let (next, l) = lines.next().ok_or_else(|| {
+                    parse_err(
+                        at,
+                        format!("the face announces {k} vertices but lists fewer"),
+                    )
+                })?;
+                (at, toks) = (next, tokens(l));
+            };
+            ids.push(parse_index_u32(FORMAT, Some(at), t)?);
         }
         sink.push(&ids)?;
     }
