@@ -10,9 +10,9 @@
 //! over the next ones (as CGAL and libigl read it), and the rest of the
 //! line holding its last index is color. A face line that really lists
 //! too few indices then takes the next face's line, and the file runs out
-//! of face lines: refused as truncated. Indices are 0-based; indices past the vertex count
-//! load as they are (validation reports them). The counts are checked
-//! against the bytes that follow before any allocation.
+//! of face lines: refused as truncated. Indices are 0-based; indices past
+//! the vertex count load as they are (validation reports them). The counts
+//! are checked against the bytes that follow before any allocation.
 
 use std::io::Write;
 
