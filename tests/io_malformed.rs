@@ -283,20 +283,25 @@ fn off_lying_count_fails_before_allocating() {
 
 #[test]
 fn off_missing_faces_is_truncated() {
-    let text = b"OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n                     \n";
-    let err = load_bytes(text, None).unwrap_err();
-    assert!(
-        matches!(
-            err,
-            LoadError::Truncated {
-                format: MeshFormat::Off,
-                what: "faces",
-                expected: 2,
-                got: 1
-            }
-        ),
-        "{err:?}"
-    );
+    let missing = b"OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n                     \n";
+    // `3 0 1` takes the next line's `3` as its third index and the rest of
+    // that line as color: the second face line is missing.
+    let short = b"OFF\n3 2 0\n0.0 0.0 0.0\n1.0 0.0 0.0\n0.0 1.0 0.0\n3 0 1\n3 0 1 2\n";
+    for text in [&missing[..], &short[..]] {
+        let err = load_bytes(text, None).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                LoadError::Truncated {
+                    format: MeshFormat::Off,
+                    what: "faces",
+                    expected: 2,
+                    got: 1
+                }
+            ),
+            "{err:?}"
+        );
+    }
 }
 
 #[test]
@@ -310,24 +315,8 @@ fn off_face_indices_run_on_over_lines() {
 }
 
 #[test]
-fn off_face_line_listing_too_few_indices_is_refused() {
-    // `3 0 1` takes the next line's `3` as its third index and the rest of
-    // that line as color: the second face line is missing.
-    let text = b"OFF\n3 2 0\n0.0 0.0 0.0\n1.0 0.0 0.0\n0.0 1.0 0.0\n3 0 1\n3 0 1 2\n";
-    let err = load_bytes(text, None).unwrap_err();
-    assert!(
-        matches!(
-            err,
-            LoadError::Truncated {
-                format: MeshFormat::Off,
-                what: "faces",
-                expected: 2,
-                got: 1
-            }
-        ),
-        "{err:?}"
-    );
-    // The last face line short: nothing follows to complete it.
+fn off_last_face_listing_too_few_indices_is_refused() {
+    // Nothing follows to complete it.
     let text = b"OFF\n3 1 0\n0.0 0.0 0.0\n1.0 0.0 0.0\n0.0 1.0 0.0\n3 0 1\n";
     let err = load_bytes(text, None).unwrap_err();
     assert!(
