@@ -88,7 +88,9 @@ impl ExactPoint for LoopPoint {
             Some((_, _, w, e)) => {
                 u64::from(128 - w.leading_zeros()) + u64::from(e.min(0).unsigned_abs())
             }
-            None => self.exact().denominator_bits(),
+            None => self
+                .lazy_denominator_bits()
+                .unwrap_or_else(|| self.exact().denominator_bits()),
         }
     }
 }

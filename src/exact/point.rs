@@ -573,6 +573,19 @@ impl LoopPoint {
         }
     }
 
+    /// For a crossing held by its edge and level: the bits of its exact
+    /// coordinates' denominators in lowest terms (as
+    /// [`crate::exact::area::ExactPoint::denominator_bits`] of
+    /// [`LoopPoint::exact`]), computed in 256-bit integers without building
+    /// the exact point, when they fit (see
+    /// [`super::wide::crossing_denominator_bits`]).
+    pub(crate) fn lazy_denominator_bits(&self) -> Option<u64> {
+        match &self.0 {
+            Repr::Lazy(l) => super::wide::crossing_denominator_bits(l.a, l.b, &l.level),
+            _ => None,
+        }
+    }
+
     /// The nearest doubles (rounding for output only).
     pub fn to_f64(&self) -> [f64; 2] {
         match &self.0 {

@@ -38,6 +38,42 @@ const DENOMINATOR_BITS: u32 = 50;
 /// caller takes the big-rational path). Exact value, one rounding: equal
 /// to the rounding of the big-rational reference (property-tested).
 pub fn nearest_crossing(a: [f64; 3], b: [f64; 3], level: &Level) -> Option<[f64; 2]> {
+    let (x, y, w, e0) = crossing_integers(a, b, level)?;
+    Some([nearest(x, w, e0)?, nearest(y, w, e0)?])
+}
+
+/// The bits of the denominators of the crossing's coordinates in lowest
+/// terms (what `Point2::denominator_bits` of the exact point reads), or
+/// `None` beyond the bounds above or when the odd part of `W` does not fit
+/// `u128` (then the caller builds the exact point). Exact, with no heap:
+/// `x = X 2^e0 / W`; the odd part of the reduced denominator is
+/// `odd(W) / gcd(X, odd(W))` (one remainder and a `u128` gcd), its power
+/// of two what `2^e0 2^tz(X) / 2^tz(W)` leaves below the line.
+pub fn crossing_denominator_bits(a: [f64; 3], b: [f64; 3], level: &Level) -> Option<u64> {
+    let (x, y, w, e0) = crossing_integers(a, b, level)?;
+    let tw = w.trailing_zeros();
+    let odd = w >> tw;
+    if odd > U256::from(u128::MAX) {
+        return None;
+    }
+    let odd = odd.as_u128();
+    let bits = |n: I256| -> u64 {
+        if n == 0 {
+            // Zero is 0 / 1.
+            return 1;
+        }
+        let m = n.unsigned_abs();
+        let g = super::point::gcd_u128((m % U256::from(odd)).as_u128(), odd);
+        let odd_bits = u64::from(128 - (odd / g).leading_zeros());
+        let twos = i64::from(tw) - i64::from(m.trailing_zeros()) - i64::from(e0);
+        odd_bits + twos.max(0) as u64
+    };
+    Some(bits(x) + bits(y))
+}
+
+/// `(X, Y, W, e0)` with the crossing `(X 2^e0 / W, Y 2^e0 / W)`, `W > 0`,
+/// within the bounds above (see the module documentation).
+fn crossing_integers(a: [f64; 3], b: [f64; 3], level: &Level) -> Option<(I256, I256, U256, i32)> {
     let (p, q) = level.wide()?;
     let layout = Layout::of([a[0], a[1], a[2], b[0], b[1], b[2]])?;
     if layout.places() > PLACES {
@@ -68,8 +104,7 @@ pub fn nearest_crossing(a: [f64; 3], b: [f64; 3], level: &Level) -> Option<[f64;
     if w == 0 {
         return None;
     }
-    let w = w.unsigned_abs();
-    Some([nearest(x, w, e0)?, nearest(y, w, e0)?])
+    Some((x, y, w.unsigned_abs(), e0))
 }
 
 /// Bits of `|v|`.
@@ -251,6 +286,64 @@ mod tests {
             let x = nearest_crossing(a, b, &level);
             prop_assert!(x.is_some());
             prop_assert_eq!(x.unwrap(), reference(a, b, &level));
+            prop_assert_eq!(
+                crossing_denominator_bits(a, b, &level),
+                Some(crate::exact::area::ExactPoint::denominator_bits(
+                    &Point2::on_edge_reference(a, b, &level)
+                ))
+            );
+        }
+    }
+
+    #[test]
+    fn denominator_bits_by_hand() {
+        use crate::exact::area::ExactPoint;
+        let bits = |b: [f64; 3], c: &str| {
+            let level = Level::new(parse_rational(c).unwrap());
+            let fast = crossing_denominator_bits([0.0; 3], b, &level);
+            assert_eq!(
+                fast,
+                Some(Point2::on_edge_reference([0.0; 3], b, &level).denominator_bits())
+            );
+            fast.unwrap()
+        };
+        // (1/3, 1/3): denominators 3 and 3, two bits each.
+        assert_eq!(bits([1.0, 1.0, 3.0], "1"), 4);
+        // (1/2, 1/8): denominators 2 and 8.
+        assert_eq!(bits([1.0, 0.25, 3.0], "3/2"), 2 + 4);
+        // (0, 0): zero is 0 / 1, one bit each.
+        assert_eq!(bits([1.0, 0.25, 3.0], "0"), 2);
+        // (5/7 2^-3, 5/7 2^60): 7 2^3 below x's line, 7 below y's.
+        assert_eq!(bits([0.125, 2f64.powi(60), 7.0], "5"), 6 + 3);
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(4096))]
+        /// The bits of the reduced denominators, computed without building
+        /// the point, equal the big-rational reference's whenever they are
+        /// given: at fractions of the edge, decimals and levels of any
+        /// denominator below `2^62`, over the whole `f64` range.
+        #[test]
+        fn denominator_bits_equal_the_reference(
+            (a, b) in edge(), t in 1i64..64, den in 1i64..64, decimals in 0u32..8, kind in 0u8..3,
+            p in any::<i64>(), q in 1i64..i64::MAX,
+        ) {
+            use crate::exact::area::ExactPoint;
+            prop_assume!(a.iter().chain(&b).all(|v| v.is_finite()) && a[2] != b[2]);
+            let (za, zb) = (rat_from_f64(a[2]), rat_from_f64(b[2]));
+            let frac = Rat::new(t.into(), (den + t).into());
+            let exact = &za + (zb - &za) * frac;
+            let level = Level::new(match kind {
+                0 => exact,
+                1 => {
+                    let unit = Rat::from_integer(10.into()).pow(decimals as i32);
+                    (exact * &unit).round() / unit
+                }
+                _ => Rat::new(p.into(), q.into()),
+            });
+            if let Some(bits) = crossing_denominator_bits(a, b, &level) {
+                prop_assert_eq!(bits, Point2::on_edge_reference(a, b, &level).denominator_bits());
+            }
         }
     }
 }
