@@ -1,6 +1,8 @@
 //! Input: an edge's two positions and an exact level. Output: the nearest
 //! doubles of their crossing, rounded from its exact value held in 256-bit
-//! integers on the stack (`ethnum`): no heap, no gcd.
+//! integers on the stack (`ethnum`): no heap, no gcd; and the bits of its
+//! coordinates' reduced denominators (for the summary's bound), from the
+//! same integers with one `u128` gcd.
 //!
 //! This is the path for the crossings that the certified double-double
 //! bound ([`super::crossing::certified_crossing`]) leaves undecided:
