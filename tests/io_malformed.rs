@@ -466,6 +466,58 @@ fn ply_negative_index_is_a_typed_error() {
     );
 }
 
+/// The message of a PLY parse error, asserted to be one readable line.
+fn ply_parse_message(bytes: &[u8], line: usize) -> String {
+    match load_bytes(bytes, None).unwrap_err() {
+        LoadError::Parse {
+            line: Some(l),
+            message,
+            ..
+        } if l == line => {
+            assert!(!message.contains('\n'), "{message:?}");
+            assert!(!message.contains("ParseError"), "{message:?}");
+            message
+        }
+        e => panic!("expected a parse error at line {line}, got {e:?}"),
+    }
+}
+
+/// A header line without a keyword (as an old Blender wrote it): the
+/// line is quoted and the keywords a header line may start with listed.
+#[test]
+fn ply_header_line_without_keyword_is_named_with_the_keywords_expected() {
+    let b =
+        b"ply\nformat ascii 1.0\nCreated by hand, source file: \nelement vertex 0\nend_header\n";
+    let m = ply_parse_message(b, 3);
+    assert!(m.contains("`Created by hand, source file:`"), "{m}");
+    assert!(
+        m.contains("at column 1, expected one of comment, element, end_header, format, obj_info, ply, property"),
+        "{m}"
+    );
+}
+
+/// A property of an unknown type: the column of the type and the types
+/// PLY has.
+#[test]
+fn ply_unknown_property_type_names_the_types() {
+    let b = b"ply\nformat ascii 1.0\nelement vertex 1\nproperty real x\nend_header\n0\n";
+    let m = ply_parse_message(b, 4);
+    assert!(m.contains("`property real x`"), "{m}");
+    assert!(m.contains("at column 10, expected one of"), "{m}");
+    assert!(m.contains("float32") && m.contains("uchar"), "{m}");
+}
+
+/// A vertex line shorter than its element's properties (a face list
+/// declared under `vertex`): the line is quoted with what was missing.
+#[test]
+fn ply_short_element_line_is_quoted() {
+    let b = b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n\
+property float z\nproperty list uchar uint vertex_indices\nend_header\n7.5 0 1\n";
+    let m = ply_parse_message(b, 9);
+    assert!(m.contains("`7.5 0 1`"), "{m}");
+    assert!(m.contains("List(UChar, UInt)"), "{m}");
+}
+
 /// A PLY with the corners of a tetrahedron and one `tristrips` element
 /// holding `strips` (an `int` list: `-1` separates strips).
 fn ply_tristrips(format: &str, strips: &[i32]) -> Vec<u8> {

@@ -194,8 +194,70 @@ fn parse_err(format: MeshFormat, e: &ply_rs_bw::parser::ParseError) -> LoadError
     LoadError::Parse {
         format,
         line: e.line(),
-        message: e.to_string(),
+        message: readable(&e.to_string()),
     }
+}
+
+/// The longest piece of an offending line quoted in an error.
+const QUOTE_CHARS: usize = 80;
+
+/// `ply-rs`'s message on one line: its `Line N: ` prefix dropped (the
+/// error names the line), the offending line quoted (cut to
+/// [`QUOTE_CHARS`]), and a header grammar error's debug dump replaced by
+/// the column and the keywords or types it expected there.
+fn readable(raw: &str) -> String {
+    let body = raw
+        .strip_prefix("Line ")
+        .and_then(|r| r.split_once(": "))
+        .filter(|(n, _)| n.bytes().all(|b| b.is_ascii_digit()))
+        .map_or(raw, |(_, rest)| rest);
+    let mut parts = body.split("\n\t");
+    let mut out = parts
+        .next()
+        .unwrap_or_default()
+        .trim_end_matches('.')
+        .to_owned();
+    for part in parts {
+        if let Some(text) = part.strip_prefix("String: ") {
+            let text = text.trim_matches('\'').trim_end();
+            let cut: String = text.chars().take(QUOTE_CHARS).collect();
+            let more = if cut.len() < text.len() { "..." } else { "" };
+            out += &format!(" `{}{more}`", cut.escape_debug());
+        } else if let Some(err) = part.strip_prefix("Error: ") {
+            out += &match grammar_expectation(err) {
+                Some(expected) => format!(": {expected}"),
+                None => format!(": {}", err.trim_end_matches('.')),
+            };
+        }
+    }
+    out
+}
+
+/// From the debug dump of a header grammar error (`ParseError { location:
+/// LineCol { .., column: C, .. }, expected: ExpectedSet { expected: {..} }
+/// }`): "at column C, expected one of a, b, c" with the tokens sorted.
+fn grammar_expectation(dump: &str) -> Option<String> {
+    let column = dump.split_once("column: ")?.1;
+    let column = &column[..column.find(|c: char| !c.is_ascii_digit())?];
+    let set = dump.split_once("expected: {")?.1.split_once('}')?.0;
+    let mut tokens: Vec<String> = set
+        .split(", ")
+        .map(|t| t.replace(['"', '\\'], ""))
+        // A character class (`[' '|'\t']`): the blanks between words.
+        .map(|t| {
+            if t.starts_with('[') {
+                "a blank".to_owned()
+            } else {
+                t
+            }
+        })
+        .filter(|t| !t.is_empty())
+        .collect();
+    tokens.sort();
+    Some(format!(
+        "at column {column}, expected one of {}",
+        tokens.join(", ")
+    ))
 }
 
 /// Reads PLY in any encoding.
