@@ -24,6 +24,8 @@
 //! makes volumes larger.
 
 use super::Found;
+use crate::exact::rational::decompose;
+use crate::exact::scale::{leading_exponent, times_pow2};
 use crate::ids::{FaceId, VertexId};
 use crate::mesh::Mesh;
 use rayon::prelude::*;
@@ -80,6 +82,72 @@ fn max3(a: f64, b: f64, c: f64) -> f64 {
     } else {
         m
     }
+}
+
+/// The largest coordinate magnitudes (after the shift) at which
+/// [`VolumeFrame`] does not scale: `2^-60` to `2^60`.
+const UNSCALED: std::ops::RangeInclusive<i32> = -60..=60;
+
+/// Where the volumes are built: each coordinate `x` of axis `k` as
+/// `(x - shift[k]) 2^s`.
+///
+/// The shift is the axis' lowest coordinate when every difference from it
+/// is exact (the coordinates are multiples of `2^q` and span less than
+/// `2^(q + 52)`), else zero; then `s` brings the largest magnitude to
+/// `[1, 2)` when its leading exponent lies outside [`UNSCALED`], else
+/// `s = 0`. Without them, a part far from the origin (at `1e9`, where an
+/// `f32` is 64 apart) or a mesh near `1e-300` (every bound rounded to
+/// `+-2^-140`) or `1e300` (every bound infinite) would have volumes that
+/// all meet, and every pair of faces would be tested (quadratic time).
+///
+/// Which closed volumes meet is the same in every frame: the shift is an
+/// exact translation, and `times_pow2` is exact but where a product
+/// underflows (a coordinate far below the largest one), then off by at
+/// most `2^-1074`, far inside the `2^-140` margin of [`down32`] and
+/// [`up32`]; the diagonal sums stay finite (every magnitude is below 4).
+#[derive(Clone, Copy, Debug)]
+struct VolumeFrame {
+    shift: [f64; 3],
+    s: i32,
+}
+
+impl VolumeFrame {
+    /// The frame of `mesh`, whose coordinates lie in `lo ..= hi` per axis.
+    fn of(mesh: &Mesh, lo: [f64; 3], hi: [f64; 3]) -> VolumeFrame {
+        let shift = std::array::from_fn(|k| {
+            let grid = mesh
+                .positions
+                .iter()
+                .filter_map(|p| decompose(p[k]))
+                .map(|(_, e)| e)
+                .min();
+            match grid {
+                Some(q) if q <= 1023 - 52 && hi[k] - lo[k] < pow2_any(q + 52) => lo[k],
+                _ => 0.0,
+            }
+        });
+        let top = (0..3)
+            .flat_map(|k| [lo[k] - shift[k], hi[k] - shift[k]])
+            .filter(|x| x.is_finite())
+            .map(f64::abs)
+            .fold(0.0, f64::max);
+        let s = match leading_exponent(top) {
+            Some(e) if !UNSCALED.contains(&e) => -e,
+            _ => 0,
+        };
+        VolumeFrame { shift, s }
+    }
+
+    /// `p` in this frame.
+    #[inline]
+    fn place(&self, p: [f64; 3]) -> [f64; 3] {
+        std::array::from_fn(|k| times_pow2(p[k] - self.shift[k], self.s))
+    }
+}
+
+/// `2^k` for any `k` up to 1023 (zero below the subnormals).
+fn pow2_any(k: i32) -> f64 {
+    times_pow2(1.0, k.max(-1100))
 }
 
 /// A closed box, its bounds holding the exact ones.
@@ -283,6 +351,11 @@ impl Bvh {
                 hi[k] = hi[k].max(p[k]);
             }
         }
+        // Coordinates moved and scaled so that `f32` bounds stay apart
+        // (see `VolumeFrame`): which volumes meet is the same.
+        let frame = VolumeFrame::of(mesh, lo, hi);
+        let at = |v: VertexId| frame.place(mesh.pos(v));
+        let (lo, hi) = (frame.place(lo), frame.place(hi));
         let scale: [f64; 3] = std::array::from_fn(|k| {
             let w = hi[k] - lo[k];
             if w > 0.0 {
@@ -297,7 +370,7 @@ impl Bvh {
             .par_iter()
             .with_min_len(min_len)
             .map(|tri| {
-                let [a, b, c] = tri.map(|v| mesh.pos(v));
+                let [a, b, c] = tri.map(at);
                 let mut code = 0u32;
                 for k in 0..3 {
                     let m = (a[k] + b[k] + c[k]) * (1.0 / 3.0);
@@ -316,7 +389,7 @@ impl Bvh {
             .with_min_len(min_len)
             .map(|&t| {
                 let v = tris[t as usize].map(|v| v.0);
-                let p = v.map(|v| mesh.positions[v as usize]);
+                let p = v.map(|v| at(VertexId(v)));
                 let b = Bounds {
                     lo: std::array::from_fn(|k| down32(min3(p[0][k], p[1][k], p[2][k]))),
                     hi: std::array::from_fn(|k| up32(max3(p[0][k], p[1][k], p[2][k]))),
@@ -333,7 +406,7 @@ impl Bvh {
         let slabs: Vec<Slabs> = items
             .par_iter()
             .with_min_len(min_len)
-            .map(|it| Slabs::of(it.v.map(|v| mesh.positions[v as usize])))
+            .map(|it| Slabs::of(it.v.map(|v| at(VertexId(v)))))
             .collect();
         let leaves = items.len().div_ceil(LEAF).max(1);
         let height = leaves.next_power_of_two().trailing_zeros();
@@ -525,6 +598,80 @@ impl Bvh {
             if test(fa, fb) {
                 found.push(fa, fb);
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::exact::scale::times_pow2;
+    use std::sync::Mutex;
+
+    /// The pairs the tree hands to its test, sorted.
+    fn candidates(mesh: &Mesh) -> Vec<(FaceId, FaceId)> {
+        let tree = Bvh::build(mesh, &mesh.faces, None, false);
+        let seen = Mutex::new(Vec::new());
+        tree.pairs(
+            &|a: FaceId, b: FaceId| {
+                seen.lock().unwrap().push((a.min(b), a.max(b)));
+                false
+            },
+            0,
+        );
+        let mut seen = seen.into_inner().unwrap();
+        seen.sort_unstable();
+        seen
+    }
+
+    /// 300 small triangles (sides up to 4/64) at random places on the
+    /// `1/64` grid in `[0, 1.5]^3`, no vertex shared.
+    fn soup() -> Mesh {
+        let mut state = 7u64;
+        let mut next = |n: u64| {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 33) % n
+        };
+        let mut mesh = Mesh::default();
+        for t in 0..300u32 {
+            let base: [u64; 3] = std::array::from_fn(|_| next(92));
+            for _ in 0..3 {
+                let p: [f64; 3] = std::array::from_fn(|k| (base[k] + next(5)) as f64 / 64.0);
+                mesh.positions.push(p);
+            }
+            mesh.faces.push([3 * t, 3 * t + 1, 3 * t + 2].map(VertexId));
+        }
+        // The span is at least 1: the leading exponent of the volumes'
+        // largest magnitude is 0 in every frame below.
+        mesh.positions.push([1.5, 0.0, 0.0]);
+        mesh
+    }
+
+    /// The same soup far from the origin (at `2^30`, where `f32` are 128
+    /// apart), near `2^-1000`, among the subnormals (`2^-1060`) and near
+    /// `2^1000`: the tree hands its test exactly the pairs it hands it for
+    /// the soup as made, which are far fewer than all pairs. Before the
+    /// frame, every `f32` volume of these met every other.
+    #[test]
+    fn far_tiny_subnormal_and_huge_copies_test_the_same_pairs() {
+        let mesh = soup();
+        let reference = candidates(&mesh);
+        let n = mesh.faces.len();
+        assert!(!reference.is_empty());
+        assert!(reference.len() < n * (n - 1) / 20, "{}", reference.len());
+        let moved = |f: &dyn Fn(f64) -> f64| Mesh {
+            positions: mesh.positions.iter().map(|p| p.map(f)).collect(),
+            faces: mesh.faces.clone(),
+        };
+        for (name, copy) in [
+            ("far", moved(&|x| x + times_pow2(1.0, 30))),
+            ("tiny", moved(&|x| times_pow2(x, -1000))),
+            ("subnormal", moved(&|x| times_pow2(x, -1060))),
+            ("huge", moved(&|x| times_pow2(x, 1000))),
+        ] {
+            assert_eq!(candidates(&copy), reference, "{name}");
         }
     }
 }
