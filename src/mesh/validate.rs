@@ -722,6 +722,22 @@ fn degenerate_faces(mesh: &Mesh) -> Vec<FaceId> {
         .collect()
 }
 
+/// A double as the report shows it: the shortest decimal that reads back
+/// as it, in exponent form below `1e-5` and from `1e16` on (`1e-300`
+/// rather than 300 zeros).
+struct Shown(f64);
+
+impl fmt::Display for Shown {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let m = self.0.abs();
+        if m == 0.0 || !m.is_finite() || (1e-5..1e16).contains(&m) {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
+    }
+}
+
 impl fmt::Display for Report {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let s = &self.stats;
@@ -735,6 +751,7 @@ impl fmt::Display for Report {
             None => writeln!(f, "genus      - (not a closed manifold)")?,
         }
         if let Some([lo, hi]) = s.bounding_box {
+            let [lo, hi] = [lo, hi].map(|p| p.map(Shown));
             writeln!(
                 f,
                 "bbox       [{}, {}, {}] .. [{}, {}, {}]",
@@ -745,7 +762,7 @@ impl fmt::Display for Report {
             f,
             "volume     {} (~{})",
             s.volume,
-            crate::exact::rational::rat_to_f64(&self.volume)
+            Shown(crate::exact::rational::rat_to_f64(&self.volume))
         )?;
         for d in &self.defects {
             let tag = match d.severity() {
@@ -770,6 +787,26 @@ impl fmt::Display for Report {
 mod tests {
     use super::*;
     use proptest::prelude::*;
+
+    #[test]
+    fn extreme_doubles_are_shown_in_exponent_form_and_read_back() {
+        let cases = [
+            (40.0, "40"),
+            (-0.25, "-0.25"),
+            (0.0, "0"),
+            (1e-300, "1e-300"),
+            (-9.205710888e-301, "-9.205710888e-301"),
+            (5e-324, "5e-324"),
+            (1.7e308, "1.7e308"),
+            (1e16, "1e16"),
+            (9.5e-6, "9.5e-6"),
+        ];
+        for (x, shown) in cases {
+            let text = Shown(x).to_string();
+            assert_eq!(text, shown);
+            assert_eq!(text.parse::<f64>().unwrap().to_bits(), (x + 0.0).to_bits());
+        }
+    }
 
     proptest! {
         /// Looking only at the faces the topology flags finds what
