@@ -97,47 +97,61 @@ impl ExactPoint for LoopPoint {
 
 /// The signed area of a closed polygon from the nearest doubles `q` of its
 /// exact points, when a certified bound shows its sign; `None` otherwise
-/// (the caller then rounds the exact area).
+/// (the caller then rounds the exact area). [`shoelace_about_first`] with
+/// the nearest doubles' relative error `u = 2^-53`.
+pub fn rounded_area(q: &[[f64; 2]]) -> Option<f64> {
+    // Output only: the `area` number written without `--exact`. No decision
+    // reads it (orientation, roles and nesting use exact signs); `U` is the
+    // unit roundoff of the certified bound, not a tolerance.
+    const U: f64 = f64::EPSILON / 2.0;
+    let (twice, bound) = shoelace_about_first(q.len(), |i| q[i], U)?;
+    (twice.abs() > bound && twice.is_finite()).then_some(twice / 2.0)
+}
+
+/// Twice the signed area of a closed polygon of `n` points and a bound on
+/// its error, from approximations `q(i)` of its exact points `p_i`, each
+/// coordinate zero when the exact one is, else within `rel |q|` of it
+/// (`rel` at least `u`).
 ///
 /// The shoelace is taken relative to the first point,
 /// `2A = sum_i D_i x D_{i+1}` with `D_i = q_i - q_0` in doubles, so that the
 /// error scales with the loop's own size, not with its distance from the
 /// origin. With `u = 2^-53`, `m` the largest coordinate magnitude, `d` the
 /// largest `|D_i|` coordinate and `T = sum |Dx_i Dy_{i+1}| + |Dy_i Dx_{i+1}|`:
-/// each exact `p_i` is within `u |q_i|` of `q_i` per coordinate (nearest
-/// rounding), and each `D_i` within `u |D_i|` of `q_i - q_0`, so
+/// each exact `p_i` is within `rel |q_i|` of `q_i` per coordinate, and each
+/// `D_i` within `u |D_i|` of `q_i - q_0`, so
 /// `D_i = P_i + E_i` (`P_i = p_i - p_0`) with
-/// `|E_i| <= e = u (2m + 1.01 d) + 2^-1073` (the last term for subnormal
+/// `|E_i| <= e = 2 rel m + 1.01 u d + 2^-1073` (the last term for subnormal
 /// roundings). Then `|D_i x D_{i+1} - P_i x P_{i+1}| <= 4 e (d + e) + 2 e^2`,
 /// and evaluating the sum of the `2n` products in doubles adds at most
 /// `gamma_{2n+2} T` (`gamma_k = k u / (1 - k u)`) plus `2n 2^-1074` for
 /// underflows. So
 ///
-/// `|computed area - exact area| <= (n (4 e (d + e) + 2 e^2) + gamma_{2n+2} T) / 2 + n 2^-1074`,
+/// `|computed 2A - exact 2A| <= n (4 e (d + e) + 2 e^2) + gamma_{2n+2} T + 4n 2^-1074`,
 ///
-/// about `n u d (4m + 3d)`: relative to the loop's size `d` times its
+/// about `n d (8 rel m + 4u d)`: relative to the loop's size `d` times its
 /// distance `m` from the origin, never `m^2`. The bound itself is evaluated
 /// in doubles with a relative margin of `2^-20` (it has fewer than `3n + 20`
 /// roundings, each below `u`). Coordinates must lie within `2^500` and
-/// `n < 2^20`, so nothing overflows; else `None`.
-pub fn rounded_area(q: &[[f64; 2]]) -> Option<f64> {
-    // Output only: the `area` number written without `--exact`. No decision
-    // reads it (orientation, roles and nesting use exact signs); `U` is the
-    // unit roundoff of the certified bound, not a tolerance.
+/// `n < 2^20`, so nothing overflows; else `None` (also for a NaN).
+pub fn shoelace_about_first(
+    n: usize,
+    q: impl Fn(usize) -> [f64; 2],
+    rel: f64,
+) -> Option<(f64, f64)> {
     const U: f64 = f64::EPSILON / 2.0;
-    let n = q.len();
     if n < 3 {
-        return Some(0.0);
+        return Some((0.0, 0.0));
     }
     let limit = f64::from_bits((1023 + 500) << 52);
-    if n >= 1 << 20 || !q.iter().flatten().all(|v| v.abs() <= limit) {
+    if n >= 1 << 20 || !(0..n).flat_map(&q).all(|v| v.abs() <= limit) {
         return None;
     }
-    let [x0, y0] = q[0];
+    let [x0, y0] = q(0);
     let (mut m, mut d) = (0.0f64, 0.0f64);
     let (mut twice, mut magnitude) = (0.0f64, 0.0f64);
     let mut prev = [0.0, 0.0];
-    for p in q.iter().skip(1).chain(std::iter::once(&q[0])) {
+    for p in (1..n).chain(std::iter::once(0)).map(&q) {
         let cur = [p[0] - x0, p[1] - y0];
         m = m.max(p[0].abs()).max(p[1].abs());
         d = d.max(cur[0].abs()).max(cur[1].abs());
@@ -147,13 +161,14 @@ pub fn rounded_area(q: &[[f64; 2]]) -> Option<f64> {
         prev = cur;
     }
     let tiny = f64::from_bits(1); // 2^-1074
-    let e = U * (2.0 * m + 1.01 * d) + 2.0 * tiny;
+                                  // With `rel = u` the same operations as `u (2m + 1.01d)`.
+    let e = U * (2.0 * (rel / U) * m + 1.01 * d) + 2.0 * tiny;
     let k = (2 * n + 2) as f64 * U;
     let gamma = k / (1.0 - k);
     let nf = n as f64;
     let bound = (nf * (4.0 * e * (d + e) + 2.0 * e * e) + gamma * magnitude + 4.0 * nf * tiny)
         * (1.0 + f64::from_bits((1023 - 20) << 52));
-    (twice.abs() > bound && twice.is_finite()).then_some(twice / 2.0)
+    Some((twice, bound))
 }
 
 /// Exact signed area of a closed polygon (shoelace): positive when

@@ -14,6 +14,7 @@
 //! exact sign; otherwise exact rational arithmetic decides.
 //! Property-tested against the plain rational predicates.
 
+use super::area::shoelace_about_first;
 use super::homogeneous;
 use super::point::LoopPoint;
 use super::predicates::{orient2d_points, Sign};
@@ -303,7 +304,35 @@ pub fn signed_area_filtered(points: &[FilteredPoint<'_>]) -> AreaEstimate {
             approx: 0.0,
         };
     }
-    signed_area_static(points).unwrap_or_else(|| signed_area_intervals(points))
+    match signed_area_static(points) {
+        Some(decided) if decided.sign.is_some() => decided,
+        // A small loop far from the origin: about its first point.
+        about_origin => signed_area_about_first(points)
+            .or(about_origin)
+            .unwrap_or_else(|| signed_area_intervals(points)),
+    }
+}
+
+/// The shoelace about the first point ([`shoelace_about_first`]) on the
+/// approximations, each within `2^-50` of its exact coordinate relatively
+/// (so within `REL (1 + 2^-49)` of the approximation); `Some` only when
+/// its certified bound decides the sign. Its error grows with the loop's
+/// size times its distance from the origin, where [`signed_area_static`]'s
+/// grows with the distance squared: a part at `1e9` from the origin.
+fn signed_area_about_first(points: &[FilteredPoint<'_>]) -> Option<AreaEstimate> {
+    let rel = REL * (1.0 + 2.0 * REL);
+    let (twice, bound) = shoelace_about_first(points.len(), |i| [points[i].x, points[i].y], rel)?;
+    let sign = if twice > bound {
+        Sign::Positive
+    } else if twice < -bound {
+        Sign::Negative
+    } else {
+        return None;
+    };
+    Some(AreaEstimate {
+        sign: Some(sign),
+        approx: twice / 2.0,
+    })
 }
 
 /// The shoelace `S = sum(x_i y_j - x_j y_i)` on the approximations, with
@@ -386,6 +415,20 @@ mod tests {
         (-1_000_000i64..1_000_000, 1i64..1_000_000)
     }
 
+    /// A triangle of thirds and sevenths at `1e9` from the origin: the
+    /// shoelace about the origin cannot tell its sign (its error grows
+    /// with `1e18`), the one about its first point can.
+    #[test]
+    fn small_loop_far_from_the_origin_is_decided_by_the_filter() {
+        let o = 1_000_000_000i64;
+        let held: Vec<LoopPoint> = [(1, 3, 1, 7), (7, 3, 2, 7), (4, 3, 12, 7)]
+            .map(|(a, b, c, d)| LoopPoint::from(pt((3 * o + a, b), (7 * o + c, d))))
+            .into();
+        let f: Vec<FilteredPoint<'_>> = held.iter().map(FilteredPoint::new).collect();
+        assert_eq!(signed_area_static(&f).and_then(|a| a.sign), None);
+        assert_eq!(signed_area_filtered(&f).sign, Some(Sign::Positive));
+    }
+
     proptest! {
         /// The enclosure's sign, when given, is the exact sign, and its
         /// midpoint has that sign.
@@ -444,6 +487,49 @@ mod tests {
                 if let Some(s) = st.sign {
                     prop_assert_eq!(s, Sign::of_rat(&exact));
                 }
+            }
+        }
+
+        /// Loops of small rational steps far from the origin (at `k 2^s`,
+        /// `s` up to 80, or a decimal), some nearly degenerate: the
+        /// shoelace about the first point, when it decides, gives the exact
+        /// sign, and so does the whole filter.
+        #[test]
+        fn area_about_the_first_point_is_certified_far_from_the_origin(
+            steps in proptest::collection::vec(((-40i64..40, 1i64..64), (-40i64..40, 1i64..64)), 3..40),
+            (k, s) in (1i64..1 << 20, 0i32..60),
+            decimal in proptest::bool::ANY,
+            thin in proptest::bool::ANY,
+        ) {
+            let o = if decimal {
+                Rat::new((k * 1_000_003).into(), 1000.into())
+            } else {
+                Rat::from_integer(num_bigint::BigInt::from(k) << s)
+            };
+            let mut poly: Vec<Point2> = steps
+                .iter()
+                .map(|&((a, b), (c, d))| Point2 {
+                    x: &o + Rat::new(a.into(), b.into()),
+                    y: &o * Rat::from_integer(2.into()) + Rat::new(c.into(), d.into()),
+                })
+                .collect();
+            if thin {
+                // On the line through the first point with slope 3, one point
+                // a 2^-60 step off.
+                let (x0, y0) = (poly[0].x.clone(), poly[0].y.clone());
+                for (i, p) in poly.iter_mut().enumerate().skip(1) {
+                    let off = Rat::new((i64::from(i == 1)).into(), (1i64 << 60).into());
+                    p.y = &y0 + (&p.x - &x0) * Rat::from_integer(3.into()) + off;
+                }
+            }
+            let held: Vec<LoopPoint> = poly.iter().cloned().map(LoopPoint::from).collect();
+            let f: Vec<FilteredPoint<'_>> = held.iter().map(FilteredPoint::new).collect();
+            let exact = Sign::of_rat(&crate::exact::area::signed_area_reference(&poly));
+            if let Some(a) = signed_area_about_first(&f) {
+                prop_assert_eq!(a.sign, Some(exact));
+            }
+            if let Some(s) = signed_area_filtered(&f).sign {
+                prop_assert_eq!(s, exact);
             }
         }
 
