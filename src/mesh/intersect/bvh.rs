@@ -91,7 +91,8 @@ const UNSCALED: std::ops::RangeInclusive<i32> = -60..=60;
 /// Where the volumes are built: each coordinate `x` of axis `k` as
 /// `(x - shift[k]) 2^s`.
 ///
-/// The shift is the axis' lowest coordinate when every difference from it
+/// The shift is the axis' lowest coordinate when the axis' coordinates lie
+/// farther from zero than they span and every difference from the lowest
 /// is exact (the coordinates are multiples of `2^q` and span less than
 /// `2^(q + 52)`), else zero; then `s` brings the largest magnitude to
 /// `[1, 2)` when its leading exponent lies outside [`UNSCALED`], else
@@ -115,6 +116,11 @@ impl VolumeFrame {
     /// The frame of `mesh`, whose coordinates lie in `lo ..= hi` per axis.
     fn of(mesh: &Mesh, lo: [f64; 3], hi: [f64; 3]) -> VolumeFrame {
         let shift = std::array::from_fn(|k| {
+            let span = hi[k] - lo[k];
+            if !(lo[k] > span || -hi[k] > span) {
+                // Near the origin (or empty): a shift would gain little.
+                return 0.0;
+            }
             let grid = mesh
                 .positions
                 .iter()
@@ -122,7 +128,7 @@ impl VolumeFrame {
                 .map(|(_, e)| e)
                 .min();
             match grid {
-                Some(q) if q <= 1023 - 52 && hi[k] - lo[k] < pow2_any(q + 52) => lo[k],
+                Some(q) if q <= 1023 - 52 && span < pow2_any(q + 52) => lo[k],
                 _ => 0.0,
             }
         });
@@ -138,10 +144,16 @@ impl VolumeFrame {
         VolumeFrame { shift, s }
     }
 
-    /// `p` in this frame.
-    #[inline]
-    fn place(&self, p: [f64; 3]) -> [f64; 3] {
-        std::array::from_fn(|k| times_pow2(p[k] - self.shift[k], self.s))
+    /// Points in this frame (a triangle's corners, read before any
+    /// arithmetic so that their loads overlap; as they are in the frame of
+    /// most meshes, which neither shifts nor scales).
+    #[inline(always)]
+    fn place_all<const N: usize>(&self, ps: [[f64; 3]; N]) -> [[f64; 3]; N] {
+        if self.shift == [0.0; 3] && self.s == 0 {
+            ps
+        } else {
+            ps.map(|p| std::array::from_fn(|k| times_pow2(p[k] - self.shift[k], self.s)))
+        }
     }
 }
 
@@ -354,8 +366,7 @@ impl Bvh {
         // Coordinates moved and scaled so that `f32` bounds stay apart
         // (see `VolumeFrame`): which volumes meet is the same.
         let frame = VolumeFrame::of(mesh, lo, hi);
-        let at = |v: VertexId| frame.place(mesh.pos(v));
-        let (lo, hi) = (frame.place(lo), frame.place(hi));
+        let [lo, hi] = frame.place_all([lo, hi]);
         let scale: [f64; 3] = std::array::from_fn(|k| {
             let w = hi[k] - lo[k];
             if w > 0.0 {
@@ -370,7 +381,7 @@ impl Bvh {
             .par_iter()
             .with_min_len(min_len)
             .map(|tri| {
-                let [a, b, c] = tri.map(at);
+                let [a, b, c] = frame.place_all(tri.map(|v| mesh.pos(v)));
                 let mut code = 0u32;
                 for k in 0..3 {
                     let m = (a[k] + b[k] + c[k]) * (1.0 / 3.0);
@@ -389,7 +400,7 @@ impl Bvh {
             .with_min_len(min_len)
             .map(|&t| {
                 let v = tris[t as usize].map(|v| v.0);
-                let p = v.map(|v| at(VertexId(v)));
+                let p = frame.place_all(v.map(|v| mesh.positions[v as usize]));
                 let b = Bounds {
                     lo: std::array::from_fn(|k| down32(min3(p[0][k], p[1][k], p[2][k]))),
                     hi: std::array::from_fn(|k| up32(max3(p[0][k], p[1][k], p[2][k]))),
@@ -406,7 +417,7 @@ impl Bvh {
         let slabs: Vec<Slabs> = items
             .par_iter()
             .with_min_len(min_len)
-            .map(|it| Slabs::of(it.v.map(|v| at(VertexId(v)))))
+            .map(|it| Slabs::of(frame.place_all(it.v.map(|v| mesh.positions[v as usize]))))
             .collect();
         let leaves = items.len().div_ceil(LEAF).max(1);
         let height = leaves.next_power_of_two().trailing_zeros();
