@@ -160,8 +160,9 @@ pub fn shoelace_about_first(
         magnitude += a.abs() + b.abs();
         prev = cur;
     }
-    let tiny = f64::from_bits(1); // 2^-1074
-                                  // With `rel = u` the same operations as `u (2m + 1.01d)`.
+    // `2^-1074`; `e` with `rel = u` takes the same operations as `u (2m +
+    // 1.01d) + 2^-1073`.
+    let tiny = f64::from_bits(1);
     let e = U * (2.0 * (rel / U) * m + 1.01 * d) + 2.0 * tiny;
     let k = (2 * n + 2) as f64 * U;
     let gamma = k / (1.0 - k);
