@@ -95,15 +95,18 @@ impl ExactPoint for LoopPoint {
     }
 }
 
+/// The unit roundoff of `f64`, `u = 2^-53`: the bounds below are proven
+/// bounds on rounding error, not tolerances; a sign they cannot decide is
+/// decided exactly.
+const U: f64 = f64::EPSILON / 2.0;
+
 /// The signed area of a closed polygon from the nearest doubles `q` of its
 /// exact points, when a certified bound shows its sign; `None` otherwise
 /// (the caller then rounds the exact area). [`shoelace_about_first`] with
 /// the nearest doubles' relative error `u = 2^-53`.
 pub fn rounded_area(q: &[[f64; 2]]) -> Option<f64> {
     // Output only: the `area` number written without `--exact`. No decision
-    // reads it (orientation, roles and nesting use exact signs); `U` is the
-    // unit roundoff of the certified bound, not a tolerance.
-    const U: f64 = f64::EPSILON / 2.0;
+    // reads it (orientation, roles and nesting use exact signs).
     let (twice, bound) = shoelace_about_first(q.len(), |i| q[i], U)?;
     (twice.abs() > bound && twice.is_finite()).then_some(twice / 2.0)
 }
@@ -139,10 +142,11 @@ pub fn shoelace_about_first(
     q: impl Fn(usize) -> [f64; 2],
     rel: f64,
 ) -> Option<(f64, f64)> {
-    const U: f64 = f64::EPSILON / 2.0;
     if n < 3 {
         return Some((0.0, 0.0));
     }
+    // The range in which the bound is proven (nothing overflows), not a
+    // tolerance: outside it the caller takes the exact area.
     let limit = f64::from_bits((1023 + 500) << 52);
     if n >= 1 << 20 || !(0..n).flat_map(&q).all(|v| v.abs() <= limit) {
         return None;

@@ -320,19 +320,25 @@ pub fn signed_area_filtered(points: &[FilteredPoint<'_>]) -> AreaEstimate {
 /// size times its distance from the origin, where [`signed_area_static`]'s
 /// grows with the distance squared: a part at `1e9` from the origin.
 fn signed_area_about_first(points: &[FilteredPoint<'_>]) -> Option<AreaEstimate> {
+    // The approximations' proven relative error, not a tolerance.
     let rel = REL * (1.0 + 2.0 * REL);
     let (twice, bound) = shoelace_about_first(points.len(), |i| [points[i].x, points[i].y], rel)?;
-    let sign = if twice > bound {
-        Sign::Positive
-    } else if twice < -bound {
-        Sign::Negative
-    } else {
-        return None;
-    };
+    let sign = sign_beyond(twice, bound)?;
     Some(AreaEstimate {
         sign: Some(sign),
         approx: twice / 2.0,
     })
+}
+
+/// The sign of `twice` when the proven error `bound` cannot flip it.
+fn sign_beyond(twice: f64, bound: f64) -> Option<Sign> {
+    if twice > bound {
+        Some(Sign::Positive)
+    } else if twice < -bound {
+        Some(Sign::Negative)
+    } else {
+        None
+    }
 }
 
 /// The shoelace `S = sum(x_i y_j - x_j y_i)` on the approximations, with
@@ -366,15 +372,8 @@ fn signed_area_static(points: &[FilteredPoint<'_>]) -> Option<AreaEstimate> {
         prev = p;
     }
     let bound = (2.1 * REL + 2.0 * g) * magnitude;
-    let sign = if twice > bound {
-        Some(Sign::Positive)
-    } else if twice < -bound {
-        Some(Sign::Negative)
-    } else {
-        None
-    };
     Some(AreaEstimate {
-        sign,
+        sign: sign_beyond(twice, bound),
         approx: twice / 2.0,
     })
 }

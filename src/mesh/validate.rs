@@ -724,7 +724,8 @@ fn degenerate_faces(mesh: &Mesh) -> Vec<FaceId> {
 
 /// A double as the report shows it: the shortest decimal that reads back
 /// as it, in exponent form below `1e-5` and from `1e16` on (`1e-300`
-/// rather than 300 zeros).
+/// rather than 300 zeros). Display only: the thresholds pick a notation
+/// for the report's text, no decision reads them.
 struct Shown(f64);
 
 impl fmt::Display for Shown {
