@@ -10,6 +10,7 @@
 //! result is reduced by the (small) point denominators one at a time, never
 //! by a big gcd.
 
+use super::frame::Frame;
 use super::point::{gcd_u128, LoopPoint, Point2};
 use super::rational::{rat_to_f64, Rat};
 use num_bigint::{BigInt, BigUint};
@@ -104,28 +105,70 @@ const U: f64 = f64::EPSILON / 2.0;
 /// exact points, when a certified bound shows its sign; `None` otherwise
 /// (the caller then rounds the exact area). [`shoelace_about_first`] with
 /// the nearest doubles' relative error `u = 2^-53`.
+///
+/// A loop at the ends of the double range (beyond `2^±200`) is computed in
+/// the [`Frame`] of its magnitude instead: the same value, scaled by the
+/// frame's exact power of two, when it is normal in both; else, when the
+/// bound shows the exact area beyond the largest double, an infinity of
+/// its sign, and when it shows it below half the least subnormal (so it
+/// rounds to zero), a zero of its sign.
 pub fn rounded_area(q: &[[f64; 2]]) -> Option<f64> {
     // Output only: the `area` number written without `--exact`. No decision
     // reads it (orientation, roles and nesting use exact signs).
-    let (twice, bound) = shoelace_about_first(q.len(), |i| q[i], U)?;
-    (twice.abs() > bound && twice.is_finite()).then_some(twice / 2.0)
+    let certified = |(twice, bound): (f64, f64)| twice.abs() > bound && twice.is_finite();
+    match shoelace_about_first(q.len(), |i| q[i], U, 0.0) {
+        Some(t) if certified(t) => return Some(t.0 / 2.0),
+        _ => {}
+    }
+    let frame = Frame::for_points(q.iter().copied());
+    if frame.is_identity() {
+        return None;
+    }
+    // Within `u` of the exact values in the frame (see `place_normal`).
+    let placed: Vec<[f64; 2]> = q
+        .iter()
+        .map(|&[x, y]| Some([frame.place_normal(x)?, frame.place_normal(y)?]))
+        .collect::<Option<_>>()?;
+    // A zero in `q` may be an exact value's rounding below `2^-1075`:
+    // `2^(s - 1075)` in the frame.
+    let hidden = frame.place(f64::from_bits(1)) / 2.0;
+    let (twice, bound) = shoelace_about_first(q.len(), |i| placed[i], U, hidden)?;
+    if !certified((twice, bound)) {
+        return None;
+    }
+    let half = twice / 2.0;
+    if let Some(area) = frame.back_area(half) {
+        return Some(area);
+    }
+    // `|A| 2^2s` lies within `[lo, hi]` (rounded outward).
+    let lo = ((twice.abs() - bound) / 2.0).next_down();
+    let hi = ((twice.abs() + bound) / 2.0).next_up();
+    if lo > frame.place_area(f64::MAX) {
+        Some(f64::INFINITY.copysign(twice))
+    } else if hi < frame.place_area(f64::from_bits(1)) / 2.0 {
+        Some(0.0f64.copysign(twice))
+    } else {
+        None
+    }
 }
 
 /// Twice the signed area of a closed polygon of `n` points and a bound on
 /// its error, from approximations `q(i)` of its exact points `p_i`, each
-/// coordinate zero when the exact one is, else within `rel |q|` of it
-/// (`rel` at least `u`).
+/// coordinate within `rel |q| + abs` of the exact one (`rel` at least `u`;
+/// `abs` for approximations that may be zero, or subnormal, where the
+/// exact value is not: a rounding below the least normal double, placed in
+/// a [`Frame`]).
 ///
 /// The shoelace is taken relative to the first point,
 /// `2A = sum_i D_i x D_{i+1}` with `D_i = q_i - q_0` in doubles, so that the
 /// error scales with the loop's own size, not with its distance from the
 /// origin. With `u = 2^-53`, `m` the largest coordinate magnitude, `d` the
 /// largest `|D_i|` coordinate and `T = sum |Dx_i Dy_{i+1}| + |Dy_i Dx_{i+1}|`:
-/// each exact `p_i` is within `rel |q_i|` of `q_i` per coordinate, and each
-/// `D_i` within `u |D_i|` of `q_i - q_0`, so
+/// each exact `p_i` is within `rel |q_i| + abs` of `q_i` per coordinate,
+/// and each `D_i` within `u |D_i|` of `q_i - q_0`, so
 /// `D_i = P_i + E_i` (`P_i = p_i - p_0`) with
-/// `|E_i| <= e = 2 rel m + 1.01 u d + 2^-1073` (the last term for subnormal
-/// roundings). Then `|D_i x D_{i+1} - P_i x P_{i+1}| <= 4 e (d + e) + 2 e^2`,
+/// `|E_i| <= e = 2 rel m + 1.01 u d + 2^-1073 + 2 abs` (the third term for
+/// subnormal roundings). Then `|D_i x D_{i+1} - P_i x P_{i+1}| <= 4 e (d + e) + 2 e^2`,
 /// and evaluating the sum of the `2n` products in doubles adds at most
 /// `gamma_{2n+2} T` (`gamma_k = k u / (1 - k u)`) plus `2n 2^-1074` for
 /// underflows. So
@@ -141,6 +184,7 @@ pub fn shoelace_about_first(
     n: usize,
     q: impl Fn(usize) -> [f64; 2],
     rel: f64,
+    abs: f64,
 ) -> Option<(f64, f64)> {
     if n < 3 {
         return Some((0.0, 0.0));
@@ -164,10 +208,10 @@ pub fn shoelace_about_first(
         magnitude += a.abs() + b.abs();
         prev = cur;
     }
-    // `2^-1074`; `e` with `rel = u` takes the same operations as `u (2m +
-    // 1.01d) + 2^-1073`.
+    // `2^-1074`; `e` with `rel = u` and `abs = 0` takes the same
+    // operations as `u (2m + 1.01d) + 2^-1073` (adding zero is exact).
     let tiny = f64::from_bits(1);
-    let e = U * (2.0 * (rel / U) * m + 1.01 * d) + 2.0 * tiny;
+    let e = (U * (2.0 * (rel / U) * m + 1.01 * d) + 2.0 * tiny) + 2.0 * abs;
     let k = (2 * n + 2) as f64 * U;
     let gamma = k / (1.0 - k);
     let nf = n as f64;
@@ -464,6 +508,46 @@ mod tests {
                 let bound = (n * (4.0 * e * (d + e) + 2.0 * e * e) + (2.0 * n + 2.0) * u * 1.01 * t) / 2.0 + n * 2f64.powi(-1074);
                 let err = (rat_from_f64(v) - &a).abs();
                 proptest::prop_assert!(err <= rat_from_f64(bound * 1.01), "error {} above bound {}", err, bound);
+            }
+        }
+    }
+
+    proptest::proptest! {
+        /// The same loop multiplied by any power of two `2^k`: where the
+        /// loop at `k = 0` is decided and the area at `2^k` is a normal
+        /// double, the rounded area is the one at `k = 0` times `2^2k`,
+        /// exactly (the frame changes no rounding); beyond the doubles it
+        /// is the exact area's rounding (an infinity or a zero of its sign);
+        /// never a different value.
+        #[test]
+        fn rounded_area_is_the_same_at_every_scale(
+            pts in proptest::collection::vec((-1000i64..1000, -1000i64..1000), 3..20),
+            k in -1100i32..1030, offset in -40i32..40
+        ) {
+            use crate::exact::scale::times_pow2;
+            let shift = 2f64.powi(offset) * 3.0;
+            let q0: Vec<[f64; 2]> = pts.iter().map(|&(x, y)| [x as f64 + shift, y as f64 - shift]).collect();
+            let q: Vec<[f64; 2]> = q0.iter().map(|p| p.map(|v| times_pow2(v, k))).collect();
+            // Only exact scalings: every coordinate kept.
+            proptest::prop_assume!(q.iter().zip(&q0).all(|(a, b)| a.map(|v| times_pow2(v, -k)) == *b));
+            let exact: Vec<Point2> = q.iter().map(|&[x, y]| Point2 { x: rat_from_f64(x), y: rat_from_f64(y) }).collect();
+            let a = signed_area_reference(&exact);
+            let nearest = rat_to_f64(&a);
+            let unscaled = rounded_area(&q0);
+            match rounded_area(&q) {
+                Some(v) if v.is_infinite() || v == 0.0 => {
+                    proptest::prop_assert_eq!(v.to_bits(), nearest.to_bits());
+                }
+                Some(v) if v.abs() > f64::MIN_POSITIVE => {
+                    proptest::prop_assert_eq!(Some(v), unscaled.map(|u| times_pow2(u, 2 * k)));
+                }
+                // Subnormal: only from the unscaled shoelace, whose bound
+                // covers it (`rounded_area_is_within_its_bound`).
+                Some(v) => proptest::prop_assert_eq!(Sign::of_rat(&rat_from_f64(v)), Sign::of_rat(&a)),
+                None => {
+                    let normal = nearest.is_finite() && nearest.abs() > f64::MIN_POSITIVE;
+                    proptest::prop_assert!(unscaled.is_none() || !normal, "undecided at 2^{}", k);
+                }
             }
         }
     }

@@ -17,6 +17,7 @@
 //! (only their range is bounded, so that nothing underflows or
 //! overflows). The derivation of `B` is on `coordinate` (below).
 
+use super::frame::Frame;
 use super::grid::{GridLevel, MeshGrid};
 use super::level::{shl, Level};
 use super::point::LoopPoint;
@@ -67,19 +68,29 @@ fn in_range(v: f64, lo: f64, hi: f64) -> bool {
     v == 0.0 || (lo..=hi).contains(&v.abs())
 }
 
-/// A level as a double-double: `|c - (hi + lo)| <= err`.
+/// A level in a [`Frame`] as a double-double: `|c 2^s - (hi + lo)| <= err`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LevelApprox {
     hi: f64,
     lo: f64,
     err: f64,
+    frame: Frame,
 }
 
 impl LevelApprox {
-    /// `hi` the nearest double of `c`, `lo` the nearest double of
-    /// `c - hi` (so `err = u |lo|`); `None` out of the range of
-    /// [`certified_crossing`] (then every crossing takes the exact path).
-    pub fn new(level: &Level) -> Option<LevelApprox> {
+    /// `hi` the nearest double of `c 2^s` (the level in the mesh's
+    /// `frame`), `lo` the nearest double of `c 2^s - hi` (so
+    /// `err = u |lo|`); `None` out of the range of [`certified_crossing`]
+    /// (then every crossing takes the exact path).
+    pub fn new(level: &Level, frame: Frame) -> Option<LevelApprox> {
+        if frame.is_identity() {
+            return Self::in_frame(level, frame);
+        }
+        Self::in_frame(&Level::new(level.value() * frame.factor()), frame)
+    }
+
+    /// As [`LevelApprox::new`], for `level` already multiplied by `2^s`.
+    fn in_frame(level: &Level, frame: Frame) -> Option<LevelApprox> {
         let c = level.value();
         let hi = rat_to_f64(c);
         if !in_range(hi, IN_LO, IN_HI) {
@@ -98,6 +109,7 @@ impl LevelApprox {
             hi,
             lo,
             err: U * lo.abs(),
+            frame,
         })
     }
 }
@@ -246,8 +258,32 @@ unsafe fn certified_crossing_fma(a: [f64; 3], b: [f64; 3], c: &LevelApprox) -> O
     certified_crossing_with(a, b, c)
 }
 
+/// In the level's frame: the identity for every ordinary mesh; else the
+/// ends placed (exact when they land in the accepted range, which
+/// [`crossing_in_frame`] checks, and no value underflows to zero) and the
+/// results brought back, when the nearest doubles commute with the
+/// scaling ([`Frame::back`]).
 #[inline(always)]
 fn certified_crossing_with(a: [f64; 3], b: [f64; 3], c: &LevelApprox) -> Option<[f64; 2]> {
+    let frame = c.frame;
+    if frame.is_identity() {
+        return crossing_in_frame(a, b, c);
+    }
+    let (pa, pb) = (a.map(|v| frame.place(v)), b.map(|v| frame.place(v)));
+    // A value that underflowed to zero would pass the range check.
+    if a.iter()
+        .chain(&b)
+        .zip(pa.iter().chain(&pb))
+        .any(|(v, p)| (*v == 0.0) != (*p == 0.0))
+    {
+        return None;
+    }
+    let [x, y] = crossing_in_frame(pa, pb, c)?;
+    Some([frame.back(x)?, frame.back(y)?])
+}
+
+#[inline(always)]
+fn crossing_in_frame(a: [f64; 3], b: [f64; 3], c: &LevelApprox) -> Option<[f64; 2]> {
     let (az, bz) = (a[2], b[2]);
     if ![a[0], a[1], az, b[0], b[1], bz]
         .iter()
@@ -343,23 +379,31 @@ pub struct Crossings<'a> {
     grid: Option<(&'a MeshGrid, GridLevel)>,
     level: Arc<Level>,
     approx: Option<LevelApprox>,
+    frame: Frame,
     taken: [Cell<u64>; 5],
 }
 
 impl<'a> Crossings<'a> {
-    /// The point builder of one level (`level` in the mesh's stored units).
-    pub fn new(grid: Option<&'a MeshGrid>, level: &Level) -> Self {
+    /// The point builder of one level (`level` in the mesh's stored units,
+    /// `frame` the mesh's, see [`Frame`]).
+    pub fn new(grid: Option<&'a MeshGrid>, level: &Level, frame: Frame) -> Self {
         let grid = grid.and_then(|g| Some((g, g.level(level)?)));
         Crossings {
             grid,
             approx: if grid.is_none() {
-                LevelApprox::new(level)
+                LevelApprox::new(level, frame)
             } else {
                 None
             },
+            frame,
             level: Arc::new(level.clone()),
             taken: Default::default(),
         }
+    }
+
+    /// The frame in which the level's points are filtered.
+    pub fn frame(&self) -> Frame {
+        self.frame
     }
 
     fn count(&self, path: NumberPath) {
@@ -488,7 +532,7 @@ mod tests {
             let level = Level::new(level_for(a[2], b[2], kind, p, q));
             let reference = Point2::on_edge_reference(a, b, &level);
             let nearest = reference.to_f64();
-            let approx = LevelApprox::new(&level);
+            let approx = LevelApprox::new(&level, Frame::for_points([a, b]));
             if let Some(c) = &approx {
                 if let Some(r) = certified_crossing(a, b, c) {
                     prop_assert_eq!(r.map(f64::to_bits), nearest.map(f64::to_bits));
@@ -514,7 +558,7 @@ mod tests {
             prop_assume!(a[2] != b[2] && k1 != k2);
             let make = |k: i64| {
                 let level = Level::new(level_for(a[2], b[2], 1, k, 1000));
-                let approx = LevelApprox::new(&level);
+                let approx = LevelApprox::new(&level, Frame::for_points([a, b]));
                 let shared = Arc::new(level);
                 LoopPoint::on_edge_with(a, b, &shared, approx.as_ref()).0
             };
@@ -536,7 +580,7 @@ mod tests {
             a[1] = 2f64.powi(noise) * 1.2345;
             prop_assume!(a[2] != b[2]);
             let level = Level::new(level_for(a[2], b[2], 1, t, 10000));
-            let approx = LevelApprox::new(&level).unwrap();
+            let approx = LevelApprox::new(&level, Frame::IDENTITY).unwrap();
             // A tie (a crossing exactly halfway between two doubles) is
             // the only reason left to refuse.
             if certified_crossing(a, b, &approx).is_none() {
@@ -548,6 +592,47 @@ mod tests {
                 };
                 let [x, y] = exact.to_f64();
                 prop_assert!(tie(&exact.x, x) || tie(&exact.y, y) || (v_near(&exact.x, x) || v_near(&exact.y, y)));
+            }
+        }
+    }
+
+    proptest! {
+        // Scalings that lose a bit are skipped: many, at the ends.
+        #![proptest_config(ProptestConfig { cases: 2048, max_global_rejects: 1 << 20, ..ProptestConfig::default() })]
+
+        /// An ordinary edge (decimal, `f32`, near-zero noise) multiplied by
+        /// any power of two, at a decimal level multiplied likewise: in the
+        /// frame of its magnitude the certified path gives the nearest
+        /// doubles of the exact crossing whenever it answers, and it
+        /// answers wherever the unscaled edge is decided and the results
+        /// stay normal.
+        #[test]
+        fn framed_crossings_are_the_nearest_at_every_scale(
+            a in proptest::array::uniform3(-60.0f64..60.0), d in proptest::array::uniform3(-1.0f64..1.0),
+            noise in -60i32..-40, single in any::<bool>(), t in 1i64..9999, k in -1130i32..1030,
+        ) {
+            let round = |v: f64| if single { f64::from(v as f32) } else { (v * 1e6).round() / 1e6 };
+            let mut a = a.map(round);
+            let b = [a[0] + d[0], a[1] + d[1], a[2] + d[2] + 0.01].map(round);
+            a[1] = 2f64.powi(noise) * 1.2345;
+            prop_assume!(a[2] != b[2]);
+            let unscaled = Level::new(level_for(a[2], b[2], 1, t, 10000));
+            let decided = certified_crossing(a, b, &LevelApprox::new(&unscaled, Frame::IDENTITY).unwrap());
+            let times = |v: f64| crate::exact::scale::times_pow2(v, k);
+            let (sa, sb) = (a.map(times), b.map(times));
+            // Only exact scalings: every coordinate kept.
+            prop_assume!(sa.iter().chain(&sb).zip(a.iter().chain(&b)).all(|(s, v)| crate::exact::scale::times_pow2(*s, -k) == *v));
+            prop_assume!(sa[2] != sb[2]);
+            let level = Level::new(unscaled.value() * Rat::from_integer(2.into()).pow(k));
+            let nearest = Point2::on_edge_reference(sa, sb, &level).to_f64();
+            let frame = Frame::for_points([sa, sb]);
+            let got = LevelApprox::new(&level, frame).and_then(|c| certified_crossing(sa, sb, &c));
+            if let Some(r) = got {
+                prop_assert_eq!(r.map(f64::to_bits), nearest.map(f64::to_bits));
+            }
+            let normal = nearest.iter().all(|v| *v == 0.0 || v.abs() > f64::MIN_POSITIVE);
+            if decided.is_some() && normal {
+                prop_assert!(got.is_some(), "undecided at 2^{}: {:?} {:?}", k, sa, sb);
             }
         }
     }
@@ -566,12 +651,15 @@ mod tests {
     #[test]
     fn level_approximation_brackets_the_level() {
         let level = Level::new(crate::exact::parse_rational("0.1").unwrap());
-        let c = LevelApprox::new(&level).unwrap();
+        let c = LevelApprox::new(&level, Frame::IDENTITY).unwrap();
         assert_eq!(c.hi, 0.1);
         let rest = level.value() - rat_from_f64(c.hi) - rat_from_f64(c.lo);
         assert!(rest.abs() <= rat_from_f64(c.err));
-        // Out of range: refused, so the exact path decides.
-        assert!(LevelApprox::new(&Level::new(rat_from_f64(1e300))).is_none());
+        // Out of range: refused, so the exact path decides; in the frame
+        // of a mesh of that size, accepted.
+        let far = Level::new(rat_from_f64(1e300));
+        assert!(LevelApprox::new(&far, Frame::IDENTITY).is_none());
+        assert!(LevelApprox::new(&far, Frame::for_magnitude(1e300)).is_some());
     }
 
     #[test]
@@ -579,7 +667,7 @@ mod tests {
         reset_path_counts();
         let level = Level::new(crate::exact::parse_rational("0.3").unwrap());
         {
-            let points = Crossings::new(None, &level);
+            let points = Crossings::new(None, &level, Frame::IDENTITY);
             // Spans 80 bits: not on the edge's i128 grid.
             let a = [40.0, 1e-15, 0.0];
             let b = [39.0, 0.5, 1.0];

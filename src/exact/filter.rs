@@ -15,6 +15,7 @@
 //! Property-tested against the plain rational predicates.
 
 use super::area::shoelace_about_first;
+use super::frame::Frame;
 use super::homogeneous;
 use super::point::LoopPoint;
 use super::predicates::{orient2d_points, Sign};
@@ -166,30 +167,44 @@ fn approx_pair(x: i128, y: i128, w: i128, e: i32) -> Option<(f64, f64)> {
 /// `2^53`) and whose scale is exact is its approximation exactly (`is_double`):
 /// its enclosure is that one value, and its predicates are decided on the
 /// doubles (exact predicates, [`super::predicates`]).
+///
+/// The approximations are of the point in a [`Frame`] (times `2^s`, the
+/// mesh's power of two; the identity for every ordinary mesh), which no
+/// sign depends on: every point compared with another must share its
+/// frame.
 #[derive(Clone, Debug)]
 pub struct FilteredPoint<'a> {
     exact: &'a LoopPoint,
     x: f64,
     y: f64,
     is_double: bool,
+    frame: Frame,
     /// The enclosures derived from `x` and `y` (see `enclose`).
     ix: Interval,
     iy: Interval,
 }
 
 impl<'a> FilteredPoint<'a> {
-    /// Approximates an exact point and encloses it.
+    /// Approximates an exact point (in the identity frame: for points of
+    /// ordinary magnitude) and encloses it.
     pub fn new(p: &'a LoopPoint) -> Self {
-        let mut f = Self::approximate(p);
+        Self::in_frame(p, Frame::IDENTITY)
+    }
+
+    /// Approximates an exact point in `frame` and encloses it.
+    pub fn in_frame(p: &'a LoopPoint, frame: Frame) -> Self {
+        let mut f = Self::approximate(p, frame);
         f.enclose();
         f
     }
 
-    /// Approximates an exact point; its enclosures say nothing (the whole
-    /// line) until [`FilteredPoint::enclose`]. Enough for the loop area.
-    pub fn approximate(p: &'a LoopPoint) -> Self {
+    /// Approximates an exact point in `frame`; its enclosures say nothing
+    /// (the whole line) until [`FilteredPoint::enclose`]. Enough for the
+    /// loop area.
+    pub fn approximate(p: &'a LoopPoint, frame: Frame) -> Self {
         let ints = p.as_integers();
-        let from_integers = ints.and_then(|(x, y, w, e)| approx_pair(x, y, w, e));
+        let from_integers =
+            ints.and_then(|(x, y, w, e)| approx_pair(x, y, w, e.checked_add(frame.shift())?));
         // Integers below 2^53 convert exactly, and approx_pair's scaling by
         // 1 / w (a power of two) and 2^e is exact in its range: then the
         // doubles are the point.
@@ -198,17 +213,14 @@ impl<'a> FilteredPoint<'a> {
                 w.count_ones() == 1 && x.unsigned_abs() <= 1 << 53 && y.unsigned_abs() <= 1 << 53
             });
         let (x, y) = from_integers.unwrap_or_else(|| {
-            // The nearest doubles: within 2^-53 relatively when normal.
+            // The nearest doubles: within 2^-53 relatively when normal, and
+            // so placed in the frame (exactly, when normal there too).
             let [x, y] = p.to_f64();
             let [zero_x, zero_y] = p.zero_coordinates();
-            let bounded = |v: f64, zero: bool| {
-                if v == 0.0 && zero {
-                    0.0
-                } else if v.abs() >= TINY && v.is_finite() {
-                    v
-                } else {
-                    f64::NAN
-                }
+            let bounded = |v: f64, zero: bool| match frame.place_normal(v) {
+                _ if v == 0.0 && zero => 0.0,
+                Some(placed) if v != 0.0 && placed.abs() >= TINY => placed,
+                _ => f64::NAN,
             };
             (bounded(x, zero_x), bounded(y, zero_y))
         });
@@ -217,6 +229,7 @@ impl<'a> FilteredPoint<'a> {
             x,
             y,
             is_double,
+            frame,
             ix: Interval::EVERYTHING,
             iy: Interval::EVERYTHING,
         }
@@ -248,6 +261,29 @@ impl<'a> FilteredPoint<'a> {
     /// The exact point.
     pub fn exact(&self) -> &'a LoopPoint {
         self.exact
+    }
+
+    /// The nearest doubles of the exact point in the frame (of the point
+    /// itself in the identity frame): a monotone rounding, consistent with
+    /// [`FilteredPoint::bounds`].
+    pub fn rounded(&self) -> [f64; 2] {
+        let nearest = self.exact.to_f64();
+        if self.frame.is_identity() {
+            return nearest;
+        }
+        let zero = self.exact.zero_coordinates();
+        let [x, y] = [0, 1].map(|k| {
+            let v = nearest[k];
+            (v != 0.0 || zero[k])
+                .then(|| self.frame.place_normal(v))
+                .flatten()
+        });
+        // A coordinate subnormal on one side (or rounded to zero): rounded
+        // from the exact value in the frame.
+        x.zip(y).map_or_else(
+            || self.exact.exact().scaled(&self.frame.factor()).to_f64(),
+            |(x, y)| [x, y],
+        )
     }
 }
 
@@ -322,7 +358,8 @@ pub fn signed_area_filtered(points: &[FilteredPoint<'_>]) -> AreaEstimate {
 fn signed_area_about_first(points: &[FilteredPoint<'_>]) -> Option<AreaEstimate> {
     // The approximations' proven relative error, not a tolerance.
     let rel = REL * (1.0 + 2.0 * REL);
-    let (twice, bound) = shoelace_about_first(points.len(), |i| [points[i].x, points[i].y], rel)?;
+    let (twice, bound) =
+        shoelace_about_first(points.len(), |i| [points[i].x, points[i].y], rel, 0.0)?;
     let sign = sign_beyond(twice, bound)?;
     Some(AreaEstimate {
         sign: Some(sign),
@@ -398,6 +435,7 @@ fn signed_area_intervals(points: &[FilteredPoint<'_>]) -> AreaEstimate {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::exact::area::signed_area_reference;
     use crate::exact::point::Point2;
     use crate::exact::predicates::orient2d_rat;
     use crate::exact::rational::Rat;
@@ -558,6 +596,57 @@ mod tests {
                 let lc = LoopPoint::from(c.clone());
                 let [f0, ffar, fc] = [&l0, &lfar, &lc].map(FilteredPoint::new);
                 prop_assert_eq!(orient2d_filtered(&f0, &ffar, &fc), orient2d_rat(&p0, &far, c));
+            }
+        }
+
+        /// A loop of fractions multiplied by any power of two `2^k`, held as
+        /// rationals (nearest doubles, as crossings keep them) or as
+        /// integers: in the frame of its magnitude, every filtered sign
+        /// (area, orient2d, y- and x-order) is the exact sign, the frame's
+        /// nearest doubles lie within the enclosures, and the area is
+        /// decided wherever it is at `k = 0` and the nearest doubles at
+        /// `2^k` are normal.
+        #[test]
+        fn framed_filters_are_exact_at_every_scale(
+            pts in proptest::collection::vec((frac(), frac()), 3..12),
+            k in -1100i32..1030, as_integers in proptest::bool::ANY
+        ) {
+            let two = Rat::from_integer(2.into()).pow(k);
+            let exact: Vec<Point2> = pts.iter().map(|&(x, y)| pt(x, y).scaled(&two)).collect();
+            let held: Vec<LoopPoint> = if as_integers {
+                // Over the product-free denominator 1: integer numerators.
+                pts.iter()
+                    .map(|&((xn, _), (yn, _))| LoopPoint::from_integers(xn.into(), yn.into(), 1, k).unwrap())
+                    .collect()
+            } else {
+                exact.iter().cloned().map(LoopPoint::from).collect()
+            };
+            let exact: Vec<Point2> = held.iter().map(|p| p.exact().into_owned()).collect();
+            let frame = Frame::for_points(held.iter().map(LoopPoint::to_f64));
+            let f: Vec<FilteredPoint<'_>> = held.iter().map(|p| FilteredPoint::in_frame(p, frame)).collect();
+            let area = Sign::of_rat(&signed_area_reference(&exact));
+            let estimate = signed_area_filtered(&f).sign;
+            if let Some(s) = estimate {
+                prop_assert_eq!(s, area);
+            }
+            prop_assert_eq!(orient2d_filtered(&f[0], &f[1], &f[2]), orient2d_rat(&exact[0], &exact[1], &exact[2]));
+            prop_assert_eq!(cmp_y(&f[0], &f[1]), exact[0].y.cmp(&exact[1].y));
+            prop_assert_eq!(cmp_x(&f[1], &f[2]), exact[1].x.cmp(&exact[2].x));
+            for p in &f {
+                let (lo, hi) = p.bounds();
+                let r = p.rounded();
+                for c in 0..2 {
+                    prop_assert!(lo[c] <= r[c] && r[c] <= hi[c]);
+                }
+            }
+            // At k = 0, in the identity frame.
+            let held0: Vec<LoopPoint> = pts.iter().map(|&(x, y)| LoopPoint::from(pt(x, y))).collect();
+            let f0: Vec<FilteredPoint<'_>> = held0.iter().map(FilteredPoint::new).collect();
+            let normal = held.iter().all(|p| {
+                p.to_f64().iter().zip(p.zero_coordinates()).all(|(&v, zero)| zero || (v.abs() > f64::MIN_POSITIVE && v.is_finite()))
+            });
+            if !as_integers && normal && signed_area_filtered(&f0).sign.is_some() {
+                prop_assert!(estimate.is_some(), "undecided at 2^{}", k);
             }
         }
 

@@ -10,6 +10,7 @@ pub mod crossing;
 pub mod dyadic;
 pub mod face_area;
 pub mod filter;
+pub mod frame;
 pub mod grid;
 pub mod homogeneous;
 pub mod level;

@@ -147,7 +147,7 @@ impl Planar for EpsPoint<'_> {
     }
 
     fn rounded(&self) -> [f64; 2] {
-        self.base.exact().to_f64()
+        self.base.rounded()
     }
 }
 

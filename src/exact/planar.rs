@@ -27,7 +27,8 @@ pub trait Planar {
     /// Doubles enclosing the point: `([x_lo, y_lo], [x_hi, y_hi])`.
     fn bounds(&self) -> ([f64; 2], [f64; 2]);
 
-    /// The nearest doubles of the point (at `epsilon = 0`).
+    /// The nearest doubles of the point (at `epsilon = 0`), in the frame
+    /// of [`Planar::bounds`] (see [`super::frame::Frame`]).
     fn rounded(&self) -> [f64; 2];
 
     /// The point's coordinates when it is exactly these two doubles (then
@@ -64,7 +65,7 @@ impl Planar for FilteredPoint<'_> {
     }
 
     fn rounded(&self) -> [f64; 2] {
-        self.exact().to_f64()
+        FilteredPoint::rounded(self)
     }
 
     #[inline]

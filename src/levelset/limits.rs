@@ -69,12 +69,16 @@ impl LevelBuilder<'_> {
             Side::Below => Towards::Below,
             Side::Above => Towards::Above,
         };
+        let frame = self.points.frame();
         let moving: Vec<Vec<EpsPoint<'_>>> = chained
             .iter()
             .map(|c| {
                 // One filtered limit per run, shared by its crossings.
-                let bases: Vec<FilteredPoint<'_>> =
-                    c.points.iter().map(FilteredPoint::new).collect();
+                let bases: Vec<FilteredPoint<'_>> = c
+                    .points
+                    .iter()
+                    .map(|p| FilteredPoint::in_frame(p, frame))
+                    .collect();
                 c.crossings
                     .iter()
                     .zip(&c.run_of)

@@ -18,6 +18,7 @@ use crate::classify::{
 use crate::exact::area::{rounded_area, signed_area, total_signed_area};
 use crate::exact::crossing::Crossings;
 use crate::exact::filter::{signed_area_filtered, FilteredPoint};
+use crate::exact::frame::Frame;
 use crate::exact::grid::MeshGrid;
 use crate::exact::point::LoopPoint;
 use crate::exact::rational::{rat_to_f64, Rat};
@@ -28,7 +29,7 @@ use crate::mesh::validate::{accept, Report};
 use crate::mesh::Mesh;
 use crate::nest::{nest, Family, Role};
 use crate::segment::{edge_segments, face_segment, Carrier, CutPoint, Segment, Via};
-use num_traits::{One, Signed};
+use num_traits::One;
 use rustc_hash::FxHashMap as HashMap;
 use std::sync::Arc;
 
@@ -74,17 +75,14 @@ impl Loop {
     /// beyond the doubles (JSON has no infinity). A function of the exact
     /// loop alone.
     pub fn rounded_area(&self, rounded: &[[f64; 2]]) -> f64 {
-        rounded_area(rounded).unwrap_or_else(|| {
-            let a = self.area();
-            let r = rat_to_f64(&a);
-            if r.is_finite() {
-                r
-            } else if a.is_negative() {
-                f64::MIN
-            } else {
-                f64::MAX
-            }
-        })
+        let r = rounded_area(rounded).unwrap_or_else(|| rat_to_f64(&self.area()));
+        if r.is_finite() {
+            r
+        } else if r < 0.0 {
+            f64::MIN
+        } else {
+            f64::MAX
+        }
     }
 }
 
@@ -212,6 +210,9 @@ pub struct Slicer<'m> {
     unit: Rat,
     /// The positions on one binary grid, when they fit (fast crossings).
     grid: Option<MeshGrid>,
+    /// The power of two the filters scale by (the identity unless the
+    /// mesh lies at the ends of the double range).
+    frame: Frame,
 }
 
 impl<'m> Slicer<'m> {
@@ -235,6 +236,7 @@ impl<'m> Slicer<'m> {
             topo,
             unit,
             grid,
+            frame: Frame::for_points(mesh.positions.iter().copied()),
         })
     }
 
@@ -346,7 +348,7 @@ impl<'a> LevelBuilder<'a> {
         LevelBuilder {
             mesh: slicer.mesh,
             topo: &slicer.topo,
-            points: Crossings::new(slicer.grid.as_ref(), level),
+            points: Crossings::new(slicer.grid.as_ref(), level, slicer.frame),
             level,
             signs: Signs::new(slicer.mesh, level),
             active,
@@ -561,7 +563,11 @@ impl<'a> LevelBuilder<'a> {
             .collect();
         let mut filtered: Vec<Vec<FilteredPoint<'_>>> = shapes
             .iter()
-            .map(|(_, pts)| pts.iter().map(FilteredPoint::approximate).collect())
+            .map(|(_, pts)| {
+                pts.iter()
+                    .map(|p| FilteredPoint::approximate(p, self.points.frame()))
+                    .collect()
+            })
             .collect();
         let orientations: Vec<Sign> = filtered
             .iter()

@@ -20,6 +20,7 @@ mod sweep;
 
 use crate::exact::area::signed_area;
 use crate::exact::filter::FilteredPoint;
+use crate::exact::frame::Frame;
 use crate::exact::planar::Planar;
 use crate::exact::point::LoopPoint;
 use crate::exact::Sign;
@@ -231,9 +232,14 @@ fn ray_cast_parents<P: Planar, L: AsRef<[P]>>(
 /// representative is known). For tests and tools; the slicer calls
 /// [`nest`] with what its topology knows.
 pub fn nest_points(loops: &[Vec<LoopPoint>]) -> Vec<Nesting> {
+    let frame = Frame::for_points(loops.iter().flatten().map(LoopPoint::to_f64));
     let filtered: Vec<Vec<FilteredPoint<'_>>> = loops
         .iter()
-        .map(|l| l.iter().map(FilteredPoint::new).collect())
+        .map(|l| {
+            l.iter()
+                .map(|p| FilteredPoint::in_frame(p, frame))
+                .collect()
+        })
         .collect();
     let orientation: Vec<Sign> = loops
         .iter()
