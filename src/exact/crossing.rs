@@ -15,7 +15,8 @@
 //! interval of one double; otherwise `None`, and the caller computes the
 //! exact value. Its cost does not depend on where the coordinates lie
 //! (only their range is bounded, so that nothing underflows or
-//! overflows). The derivation of `B` is on `coordinate` (below).
+//! overflows; a mesh beyond it is first multiplied by the power of two of
+//! its [`Frame`]). The derivation of `B` is on `coordinate` (below).
 
 use super::frame::Frame;
 use super::grid::{GridLevel, MeshGrid};
