@@ -517,6 +517,23 @@ mod tests {
         }
     }
 
+    /// An edge of one part as CAD files hold it: from `a`, by `d` (rising),
+    /// rounded to `f32` or to six decimals, with near-zero noise `2^noise`
+    /// in one coordinate beside values up to 60.
+    fn ordinary_edge(a: [f64; 3], d: [f64; 3], noise: i32, single: bool) -> ([f64; 3], [f64; 3]) {
+        let round = |v: f64| {
+            if single {
+                f64::from(v as f32)
+            } else {
+                (v * 1e6).round() / 1e6
+            }
+        };
+        let mut a = a.map(round);
+        let b = [a[0] + d[0], a[1] + d[1], a[2] + d[2] + 0.01].map(round);
+        a[1] = 2f64.powi(noise) * 1.2345;
+        (a, b)
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(4096))]
 
@@ -575,10 +592,7 @@ mod tests {
             a in proptest::array::uniform3(-60.0f64..60.0), d in proptest::array::uniform3(-1.0f64..1.0),
             noise in -60i32..-40, single in any::<bool>(), t in 1i64..9999,
         ) {
-            let round = |v: f64| if single { f64::from(v as f32) } else { (v * 1e6).round() / 1e6 };
-            let mut a = a.map(round);
-            let b = [a[0] + d[0], a[1] + d[1], a[2] + d[2] + 0.01].map(round);
-            a[1] = 2f64.powi(noise) * 1.2345;
+            let (a, b) = ordinary_edge(a, d, noise, single);
             prop_assume!(a[2] != b[2]);
             let level = Level::new(level_for(a[2], b[2], 1, t, 10000));
             let approx = LevelApprox::new(&level, Frame::IDENTITY).unwrap();
@@ -612,10 +626,7 @@ mod tests {
             a in proptest::array::uniform3(-60.0f64..60.0), d in proptest::array::uniform3(-1.0f64..1.0),
             noise in -60i32..-40, single in any::<bool>(), t in 1i64..9999, k in -1130i32..1030,
         ) {
-            let round = |v: f64| if single { f64::from(v as f32) } else { (v * 1e6).round() / 1e6 };
-            let mut a = a.map(round);
-            let b = [a[0] + d[0], a[1] + d[1], a[2] + d[2] + 0.01].map(round);
-            a[1] = 2f64.powi(noise) * 1.2345;
+            let (a, b) = ordinary_edge(a, d, noise, single);
             prop_assume!(a[2] != b[2]);
             let unscaled = Level::new(level_for(a[2], b[2], 1, t, 10000));
             let decided = certified_crossing(a, b, &LevelApprox::new(&unscaled, Frame::IDENTITY).unwrap());
