@@ -10,7 +10,7 @@ use quick_xml::events::{BytesStart, Event};
 use quick_xml::XmlVersion;
 use std::collections::HashMap;
 use std::path::Path;
-use wmslice::exact::parse_rational;
+use wmslice::exact::{parse_rational, Rat};
 use wmslice::output::html::{viewer, Counts, ViewerLayer, ViewerOptions};
 use wmslice::output::svg::{level_file_name, level_svg, Scene, SvgOptions};
 use wmslice::{datasets, LevelSet, Slicer};
@@ -342,6 +342,17 @@ fn file_names_carry_index_and_exact_level() {
     assert_eq!(
         level_file_name(0, &parse_rational("-1/3").unwrap()),
         "layer-0000_z=-1_3.svg"
+    );
+    // A level of a mesh at 1e-300: hundreds of digits, named by its
+    // nearest double (a file name longer than 255 bytes cannot be written).
+    let tiny = parse_rational("-7.25e-301").unwrap() / Rat::from_integer(3.into());
+    let name = level_file_name(12, &tiny);
+    assert_eq!(name, "layer-0012_z~-2.4166666666666666e-301.svg");
+    // At the limit (64 characters) still exact.
+    let long = parse_rational(&format!("{}/7", "9".repeat(62))).unwrap();
+    assert_eq!(
+        level_file_name(1, &long),
+        format!("layer-0001_z={}_7.svg", "9".repeat(62))
     );
 }
 

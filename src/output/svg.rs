@@ -608,11 +608,21 @@ pub fn level_svg(ls: &LevelSet, scene: &Scene, name: &str, opts: &SvgOptions) ->
     out
 }
 
+/// Exact levels longer than this are named by their nearest double: file
+/// systems limit a name to 255 bytes, and a level of a mesh at `1e-300`
+/// has hundreds of digits.
+const EXACT_NAME_MAX: usize = 64;
+
 /// The file name of a level's SVG: `layer-0003_z=3_5.svg` for the level
-/// `3/5` at index 3 (`/` becomes `_`).
+/// `3/5` at index 3 (`/` becomes `_`); when the exact level is longer than
+/// 64 characters, `layer-0003_z~7.2e-301.svg` with its nearest double
+/// (`~`: rounded; the index keeps names distinct, and the SVG's legend
+/// holds the exact level).
 pub fn level_file_name(index: usize, level: &Rat) -> String {
-    format!(
-        "layer-{index:04}_z={}.svg",
-        rat_to_string(level).replace('/', "_")
-    )
+    let exact = rat_to_string(level).replace('/', "_");
+    if exact.len() <= EXACT_NAME_MAX {
+        format!("layer-{index:04}_z={exact}.svg")
+    } else {
+        format!("layer-{index:04}_z~{:e}.svg", rat_to_f64(level))
+    }
 }
