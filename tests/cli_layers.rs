@@ -418,3 +418,66 @@ fn slice_writes_cli_files_with_the_chosen_side() {
     assert_eq!(file.layers[0].polylines[0].dir, Direction::Open);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Binary CLI holds `f32`: a part at `1e-300` (lost below the `f32`
+/// subnormals) or a layer at `1e300` (an infinity) is refused by name,
+/// before any file is made; ASCII CLI writes the same part exactly.
+#[test]
+fn binary_cli_refuses_what_f32_cannot_hold() {
+    let dir = std::env::temp_dir().join(format!("wmslice-cli-f32-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    // A tetrahedron of side 1e-300 (decimal OBJ).
+    let tiny = dir.join("tiny.obj");
+    std::fs::write(
+        &tiny,
+        "v 0 0 0\nv 1e-300 0 0\nv 0 1e-300 0\nv 0 0 1e-300\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n",
+    )
+    .unwrap();
+    let out = dir.join("tiny.cli");
+    let at = ["--at", "5e-301"];
+    let (code, _, err) = run(&[
+        &[
+            "slice",
+            tiny.to_str().unwrap(),
+            "--format",
+            "cli-binary",
+            "-o",
+        ],
+        &[out.to_str().unwrap()][..],
+        &at,
+    ]
+    .concat());
+    assert_eq!(code, 5, "{err}");
+    assert!(err.contains("binary CLI holds f32 values"), "{err}");
+    assert!(!out.exists(), "no partial file");
+    let (code, text, err) = run(&[
+        &["slice", tiny.to_str().unwrap(), "--format", "cli"][..],
+        &at,
+    ]
+    .concat());
+    assert_eq!(code, 0, "{err}");
+    let file = read(&text).unwrap();
+    // The triangle x + y <= 5e-301 at z = 5e-301, exactly as doubles.
+    let layer = &file.layers[0];
+    assert_eq!(layer.z, 5e-301);
+    let mut xs: Vec<f64> = layer.polylines[0]
+        .points
+        .iter()
+        .flatten()
+        .copied()
+        .collect();
+    xs.sort_by(f64::total_cmp);
+    assert_eq!(xs.last(), Some(&5e-301));
+    let (code, _, err) = run(&[
+        "slice",
+        "cylinder",
+        "--at",
+        "1e300",
+        "--format",
+        "cli-binary",
+    ]);
+    assert_eq!(code, 5, "{err}");
+    assert!(err.contains("1e300 lies beyond them"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -137,6 +137,9 @@ pub fn write(
                 date: today(),
             };
             let file = cli_layers::from_level_sets(levels, scene.bounds(), &opts);
+            if opts.encoding == Encoding::Binary {
+                cli_layers::check_binary(&file).tag(ExitCode::Output)?;
+            }
             let bytes = cli_layers::write(&file);
             match &a.output {
                 Some(p) => {

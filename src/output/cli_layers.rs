@@ -373,6 +373,58 @@ mod code {
     pub const HATCHES_LONG: u16 = 132;
 }
 
+/// Why a file cannot be written as binary CLI, whose values are `f32`.
+#[derive(Debug, thiserror::Error, Clone, Copy, PartialEq)]
+pub enum CliWriteError {
+    /// A height or coordinate beyond `f32` (it would be written as an
+    /// infinity).
+    #[error(
+        "binary CLI holds f32 values, and {value:e} lies beyond them (3.4e38): \
+         write ASCII CLI (--format cli) or JSON"
+    )]
+    BeyondF32 {
+        /// The value.
+        value: f64,
+    },
+    /// A part smaller than `f32` resolves: its largest coordinate below
+    /// `2^-100`, where `f32` keeps fewer than 24 bits (or none).
+    #[error(
+        "binary CLI holds f32 values, and this part spans only {extent:e} \
+         (f32 loses its precision below 7.9e-31): write ASCII CLI (--format cli) or JSON"
+    )]
+    BelowF32 {
+        /// The largest coordinate magnitude of the part.
+        extent: f64,
+    },
+}
+
+/// Whether `file` can be written as binary CLI without an infinity, or a
+/// part lost among the subnormal `f32`s. (A single value far below the
+/// part's size may still round to zero: an error below `2^-149` file
+/// units, as every rounding to `f32` makes one.)
+pub fn check_binary(file: &CliFile) -> Result<(), CliWriteError> {
+    let values = file.layers.iter().flat_map(|l| {
+        std::iter::once(l.z).chain(
+            l.polylines
+                .iter()
+                .flat_map(|p| p.points.iter().flatten().copied()),
+        )
+    });
+    let dimension = file.header.dimension.into_iter().flatten();
+    let mut extent = 0.0f64;
+    for v in values.chain(dimension) {
+        if (v as f32).is_infinite() {
+            return Err(CliWriteError::BeyondF32 { value: v });
+        }
+        extent = extent.max(v.abs());
+    }
+    // 2^-100: a part this small keeps 24 bits in f32 only above 2^-126.
+    if extent > 0.0 && extent < f64::from_bits((1023 - 100) << 52) {
+        return Err(CliWriteError::BelowF32 { extent });
+    }
+    Ok(())
+}
+
 /// The binary variant (`$$BINARY` is written whatever the header says).
 pub fn write_binary(file: &CliFile) -> Vec<u8> {
     let mut f = file.clone();
