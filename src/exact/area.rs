@@ -124,13 +124,21 @@ pub fn rounded_area(q: &[[f64; 2]]) -> Option<f64> {
     if frame.is_identity() {
         return None;
     }
-    // Within `u` of the exact values in the frame (see `place_normal`).
+    // Within `u` of the exact values in the frame (see `place_normal`); a
+    // frame that scales up places every double exactly, and a subnormal or
+    // zero in `q` errs by at most `2^-1075`: `2^(s - 1075)` in the frame.
+    let scales_up = frame.shift() > 0;
+    let place = |v: f64| {
+        if scales_up {
+            Some(frame.place(v)).filter(|p| p.is_finite())
+        } else {
+            frame.place_normal(v)
+        }
+    };
     let placed: Vec<[f64; 2]> = q
         .iter()
-        .map(|&[x, y]| Some([frame.place_normal(x)?, frame.place_normal(y)?]))
+        .map(|&[x, y]| Some([place(x)?, place(y)?]))
         .collect::<Option<_>>()?;
-    // A zero in `q` may be an exact value's rounding below `2^-1075`:
-    // `2^(s - 1075)` in the frame.
     let hidden = frame.place(f64::from_bits(1)) / 2.0;
     let (twice, bound) = shoelace_about_first(q.len(), |i| placed[i], U, hidden)?;
     if !certified((twice, bound)) {

@@ -76,6 +76,12 @@ pub struct LevelApprox {
     lo: f64,
     err: f64,
     frame: Frame,
+    /// The spacing of the subnormal doubles, `2^-1074`, in the frame
+    /// (zero unless the frame scales up: a mesh among the subnormals or
+    /// near them), and `2^53` times it, the image of `2^-1021`: below it
+    /// the doubles are evenly spaced by `2^-1074`.
+    grid: f64,
+    grid_top: f64,
 }
 
 impl LevelApprox {
@@ -106,11 +112,19 @@ impl LevelApprox {
         if !in_range(lo, f64::from_bits((1023 - 1000) << 52), IN_HI) {
             return None;
         }
+        // Non-identity frames shift by more than 200: `grid` is normal.
+        let grid = if frame.shift() > 0 {
+            frame.place(f64::from_bits(1))
+        } else {
+            0.0
+        };
         Some(LevelApprox {
             hi,
             lo,
             err: U * lo.abs(),
             frame,
+            grid,
+            grid_top: grid * f64::from_bits((1023 + 53) << 52),
         })
     }
 }
@@ -195,6 +209,7 @@ fn coordinate(
     (u_h, u_l, u_e): (f64, f64, f64),
     (v_h, v_l, v_e): (f64, f64, f64),
     (d_h, d_l, d_inv): (f64, f64, f64),
+    (grid, grid_top): (f64, f64),
 ) -> Option<f64> {
     if ax == bx {
         // A convex combination of one value (also when both are zero;
@@ -225,11 +240,33 @@ fn coordinate(
     if !(OUT_LO..=OUT_HI).contains(&f.abs()) || !bound.is_finite() {
         return None;
     }
+    if f.abs() < grid_top {
+        return on_subnormal_grid(f, e, bound, grid);
+    }
     // Work on |f|: the gaps above and below it, halved (exact).
     let (e, m) = if f > 0.0 { (e, f) } else { (-e, -f) };
     let up = (m.next_up() - m) / 2.0;
     let down = (m - m.next_down()) / 2.0;
     (e + bound < up && e - bound > -down).then_some(f)
+}
+
+/// Where the nearest double lies below `2^-1021` (the subnormals and the
+/// least normal binade, all spaced by `2^-1074`): in a frame scaling by
+/// `2^s`, `x 2^s` rounds to a multiple `r = k g` of `g = 2^(s - 1074)`.
+/// `f / g` is exact (a power of two, `|f| < 2^53 g`) and rounds to `k`;
+/// `d = f - r` is exact (a multiple of `f`'s ulp, which is at most `g`,
+/// below `g / 2`). The exact value lies within `e + B` of `f`, so within
+/// `d + e +- B` of `r`: `r` is the rounding when `|d| + |e| + B < g / 2`,
+/// tested as `d +- S` against `+-g / 2` with `S >= |e| + B` (one rounding
+/// each, monotone). `r 2^-s = k 2^-1074` is then the nearest double,
+/// exactly. Ties are never decided here.
+#[inline(never)]
+fn on_subnormal_grid(f: f64, e: f64, bound: f64, grid: f64) -> Option<f64> {
+    let r = (f / grid).round_ties_even() * grid;
+    let d = f - r;
+    let slack = (bound + e.abs()).next_up();
+    let half = grid / 2.0;
+    (d + slack < half && d - slack > -half).then_some(r)
 }
 
 /// The nearest doubles of the crossing of edge `(a, b)` with the level,
@@ -280,7 +317,16 @@ fn certified_crossing_with(a: [f64; 3], b: [f64; 3], c: &LevelApprox) -> Option<
         return None;
     }
     let [x, y] = crossing_in_frame(pa, pb, c)?;
-    Some([frame.back(x)?, frame.back(y)?])
+    // Below the image of `2^-1021` the result is a multiple of the
+    // subnormal spacing, decided on that grid: brought back exactly.
+    let back = |v: f64| {
+        if v.abs() < c.grid_top {
+            Some(frame.place_back(v))
+        } else {
+            frame.back(v)
+        }
+    };
+    Some([back(x)?, back(y)?])
 }
 
 #[inline(always)]
@@ -310,8 +356,9 @@ fn crossing_in_frame(a: [f64; 3], b: [f64; 3], c: &LevelApprox) -> Option<[f64; 
     let vv = (v_h, v_l, v_e);
     // D in [2^-400, 2^400]: its reciprocal is a normal double.
     let dd = (d_h, d_l, 1.0 / d_h);
-    let x = coordinate(a[0], b[0], uu, vv, dd)?;
-    let y = coordinate(a[1], b[1], uu, vv, dd)?;
+    let grid = (c.grid, c.grid_top);
+    let x = coordinate(a[0], b[0], uu, vv, dd, grid)?;
+    let y = coordinate(a[1], b[1], uu, vv, dd, grid)?;
     Some([x, y])
 }
 
@@ -658,6 +705,25 @@ mod tests {
         let off = v - &e;
         let tol = rat_from_f64(f.abs() * 2f64.powi(-60));
         (&off - &half_up).abs() <= tol || (&off + &half_down).abs() <= tol
+    }
+
+    /// An edge among the subnormals (decimal, as an OBJ file holds them) at
+    /// a decimal level: the crossing's nearest doubles lie on the
+    /// subnormal grid, decided there in the frame of the edge.
+    #[test]
+    fn subnormal_crossings_are_decided_on_the_subnormal_grid() {
+        let a = [7.2e-311, -3.1e-312, -2.5e-311];
+        let b = [-1.9e-311, 4.4e-311, 6.1e-311];
+        for level in ["1e-312", "-2.4e-311", "3.33e-311"] {
+            let level = Level::new(crate::exact::parse_rational(level).unwrap());
+            let frame = Frame::for_points([a, b]);
+            assert!(frame.shift() > 1000);
+            let c = LevelApprox::new(&level, frame).unwrap();
+            let got = certified_crossing(a, b, &c).expect("decided");
+            let nearest = Point2::on_edge_reference(a, b, &level).to_f64();
+            assert_eq!(got.map(f64::to_bits), nearest.map(f64::to_bits));
+            assert!(got.iter().all(|v| v.abs() < f64::MIN_POSITIVE));
+        }
     }
 
     #[test]

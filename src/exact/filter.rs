@@ -179,6 +179,11 @@ pub struct FilteredPoint<'a> {
     y: f64,
     is_double: bool,
     frame: Frame,
+    /// An error bound on top of the relative one, for both coordinates:
+    /// zero but where a nearest double is subnormal (or zero for a value
+    /// that is not) and the frame scales up: then half the subnormal
+    /// spacing in the frame.
+    abs: f64,
     /// The enclosures derived from `x` and `y` (see `enclose`).
     ix: Interval,
     iy: Interval,
@@ -212,24 +217,34 @@ impl<'a> FilteredPoint<'a> {
             && ints.is_some_and(|(x, y, w, _)| {
                 w.count_ones() == 1 && x.unsigned_abs() <= 1 << 53 && y.unsigned_abs() <= 1 << 53
             });
-        let (x, y) = from_integers.unwrap_or_else(|| {
-            // The nearest doubles: within 2^-53 relatively when normal, and
-            // so placed in the frame (exactly, when normal there too).
-            let [x, y] = p.to_f64();
-            let [zero_x, zero_y] = p.zero_coordinates();
-            let bounded = |v: f64, zero: bool| match frame.place_normal(v) {
-                _ if v == 0.0 && zero => 0.0,
-                Some(placed) if v != 0.0 && placed.abs() >= TINY => placed,
-                _ => f64::NAN,
-            };
-            (bounded(x, zero_x), bounded(y, zero_y))
-        });
+        let (x, y, abs) = from_integers.map_or_else(
+            || {
+                // The nearest doubles: within 2^-53 relatively when normal, and
+                // so placed in the frame (exactly, when normal there too).
+                let [x, y] = p.to_f64();
+                let [zero_x, zero_y] = p.zero_coordinates();
+                let bounded = |v: f64, zero: bool| match frame.place_normal(v) {
+                    _ if v == 0.0 && zero => (0.0, 0.0),
+                    Some(placed) if v != 0.0 && placed.abs() >= TINY => (placed, 0.0),
+                    // Below the normal doubles the rounding errs by at most
+                    // `2^-1075`; placed by scaling up, exactly.
+                    _ if frame.shift() > 0 && v.abs() < f64::MIN_POSITIVE => {
+                        (frame.place(v), frame.place(f64::from_bits(1)) / 2.0)
+                    }
+                    _ => (f64::NAN, 0.0),
+                };
+                let ((x, ex), (y, ey)) = (bounded(x, zero_x), bounded(y, zero_y));
+                (x, y, ex.max(ey))
+            },
+            |(x, y)| (x, y, 0.0),
+        );
         FilteredPoint {
             exact: p,
             x,
             y,
             is_double,
             frame,
+            abs,
             ix: Interval::EVERYTHING,
             iy: Interval::EVERYTHING,
         }
@@ -241,8 +256,16 @@ impl<'a> FilteredPoint<'a> {
             self.ix = Interval::at(self.x);
             self.iy = Interval::at(self.y);
         } else {
-            self.ix = Interval::around(self.x);
-            self.iy = Interval::around(self.y);
+            let around = |v: f64| {
+                let i = Interval::around(v);
+                if self.abs > 0.0 {
+                    Interval::widen(i.lo - self.abs, i.hi + self.abs)
+                } else {
+                    i
+                }
+            };
+            self.ix = around(self.x);
+            self.iy = around(self.y);
         }
     }
 
@@ -358,8 +381,9 @@ pub fn signed_area_filtered(points: &[FilteredPoint<'_>]) -> AreaEstimate {
 fn signed_area_about_first(points: &[FilteredPoint<'_>]) -> Option<AreaEstimate> {
     // The approximations' proven relative error, not a tolerance.
     let rel = REL * (1.0 + 2.0 * REL);
+    let abs = points.iter().fold(0.0f64, |m, p| m.max(p.abs));
     let (twice, bound) =
-        shoelace_about_first(points.len(), |i| [points[i].x, points[i].y], rel, 0.0)?;
+        shoelace_about_first(points.len(), |i| [points[i].x, points[i].y], rel, abs)?;
     let sign = sign_beyond(twice, bound)?;
     Some(AreaEstimate {
         sign: Some(sign),
@@ -397,7 +421,9 @@ fn signed_area_static(points: &[FilteredPoint<'_>]) -> Option<AreaEstimate> {
     // the rounding error, not a tolerance; when it cannot decide the sign,
     // the caller decides it exactly.
     let g = (2 * n + 4) as f64 * (f64::EPSILON / 2.0);
-    if g >= 0.01 || !points.iter().all(|p| in_range(p.x) && in_range(p.y)) {
+    // Its bound is relative only: points with an absolute error go on.
+    let fits = |p: &FilteredPoint<'_>| in_range(p.x) && in_range(p.y) && p.abs == 0.0;
+    if g >= 0.01 || !points.iter().all(fits) {
         return None;
     }
     let (mut twice, mut magnitude) = (0.0f64, 0.0f64);
@@ -464,6 +490,38 @@ mod tests {
         let f: Vec<FilteredPoint<'_>> = held.iter().map(FilteredPoint::new).collect();
         assert_eq!(signed_area_static(&f).and_then(|a| a.sign), None);
         assert_eq!(signed_area_filtered(&f).sign, Some(Sign::Positive));
+    }
+
+    /// A triangle of rational points among the subnormals (their nearest
+    /// doubles subnormal): in its frame the filter decides its orientation
+    /// and each orient2d, with the doubles' absolute error.
+    #[test]
+    fn subnormal_points_are_decided_in_their_frame() {
+        let tiny = Rat::new(1.into(), 3.into()) * Rat::from_integer(2.into()).pow(-1040);
+        let held: Vec<LoopPoint> = [(0, 0), (7, 1), (2, 5)]
+            .map(|(x, y)| {
+                let p = pt((x, 1), (y, 1)).scaled(&tiny);
+                LoopPoint::from(p)
+            })
+            .into();
+        assert!(held[1].to_f64()[0].abs() < f64::MIN_POSITIVE);
+        let frame = Frame::for_points(held.iter().map(LoopPoint::to_f64));
+        let f: Vec<FilteredPoint<'_>> = held
+            .iter()
+            .map(|p| FilteredPoint::in_frame(p, frame))
+            .collect();
+        assert_eq!(signed_area_filtered(&f).sign, Some(Sign::Positive));
+        assert!(f[1].abs > 0.0);
+        let det = b_minus_a_cross(&f);
+        assert_eq!(det.sign(), Some(Sign::Positive));
+    }
+
+    /// The interval determinant of `orient2d_filtered` for three points.
+    fn b_minus_a_cross(f: &[FilteredPoint<'_>]) -> Interval {
+        let (a, b, c) = (&f[0], &f[1], &f[2]);
+        b.ix.sub(a.ix)
+            .mul(c.iy.sub(a.iy))
+            .sub(b.iy.sub(a.iy).mul(c.ix.sub(a.ix)))
     }
 
     proptest! {

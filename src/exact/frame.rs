@@ -8,7 +8,9 @@
 //! comparisons and areas do not change when every point is multiplied by
 //! one power of two, and the nearest double commutes with that scaling
 //! wherever both values are normal: [`Frame::back`] refuses the rest, and
-//! the caller takes the exact path. Multiplying by a power of two is exact
+//! the caller takes the exact path (or, for a crossing among the
+//! subnormals, decides on their grid's image in the frame: see
+//! `on_subnormal_grid` in [`super::crossing`]). Multiplying by a power of two is exact
 //! whenever the result is a normal double ([`times_pow2`]): callers check
 //! that range after [`Frame::place`].
 
@@ -92,6 +94,13 @@ impl Frame {
     #[inline(always)]
     pub fn back(self, r: f64) -> Option<f64> {
         back_by(r, self.shift)
+    }
+
+    /// `v 2^-s` for a value known to be exactly that (a multiple of the
+    /// frame's image of `2^-1074`, or a placed double).
+    #[inline(always)]
+    pub fn place_back(self, v: f64) -> f64 {
+        times_pow2(v, -self.shift)
     }
 
     /// [`Frame::back`] for an area (a value in units of `2^2s`).
