@@ -107,8 +107,9 @@ const U: f64 = f64::EPSILON / 2.0;
 /// the nearest doubles' relative error `u = 2^-53`.
 ///
 /// A loop at the ends of the double range (beyond `2^±200`) is computed in
-/// the [`Frame`] of its magnitude instead: the same value, scaled by the
-/// frame's exact power of two, when it is normal in both; else, when the
+/// the [`Frame`] of its magnitude instead (its subnormal coordinates with
+/// their absolute error): the same value, scaled by the frame's exact
+/// power of two, when it is normal in both; else, when the
 /// bound shows the exact area beyond the largest double, an infinity of
 /// its sign, and when it shows it below half the least subnormal (so it
 /// rounds to zero), a zero of its sign.

@@ -10,9 +10,9 @@
 //! wherever both values are normal: [`Frame::back`] refuses the rest, and
 //! the caller takes the exact path (or, for a crossing among the
 //! subnormals, decides on their grid's image in the frame: see
-//! `on_subnormal_grid` in [`super::crossing`]). Multiplying by a power of two is exact
-//! whenever the result is a normal double ([`times_pow2`]): callers check
-//! that range after [`Frame::place`].
+//! `on_subnormal_grid` in [`super::crossing`]). Multiplying by a power of
+//! two is exact whenever the result is a normal double ([`times_pow2`]):
+//! callers check that range after [`Frame::place`].
 
 use super::rational::Rat;
 use super::scale::{leading_exponent, times_pow2};
@@ -126,8 +126,8 @@ fn normal(v: f64) -> bool {
 #[inline(always)]
 fn back_by(r: f64, s: i32) -> Option<f64> {
     let v = times_pow2(r, -s);
-    let normal = r.abs() >= f64::MIN_POSITIVE && v.abs() > f64::MIN_POSITIVE;
-    (r == 0.0 || (normal && v.is_finite() && r.is_finite())).then_some(v)
+    let both = normal(r) && v.abs() > f64::MIN_POSITIVE && v.is_finite();
+    (r == 0.0 || both).then_some(v)
 }
 
 #[cfg(test)]
