@@ -162,7 +162,9 @@ fn approx_pair(x: i128, y: i128, w: i128, e: i32) -> Option<(f64, f64)> {
 /// An exact point with approximations of its coordinates and enclosures
 /// derived from them, computed once: each approximation is exactly zero
 /// when the coordinate is, else within `2^-50` of it relatively when its
-/// magnitude is at least `2^-960`, else NaN (no information). A point held
+/// magnitude is at least `2^-960`, else NaN (no information); in a frame
+/// that scales up, a coordinate whose nearest double is subnormal (or zero)
+/// is that double placed, within an absolute error besides (`abs`). A point held
 /// as integers over a power of two `w` whose integers are doubles (below
 /// `2^53`) and whose scale is exact is its approximation exactly (`is_double`):
 /// its enclosure is that one value, and its predicates are decided on the
