@@ -240,6 +240,8 @@ fn coordinate(
     if !(OUT_LO..=OUT_HI).contains(&f.abs()) || !bound.is_finite() {
         return None;
     }
+    // Which grid the output rounds to (the exact image of `2^-1021`, not a
+    // tolerance): below it the doubles are spaced by `2^-1074`.
     if f.abs() < grid_top {
         return on_subnormal_grid(f, e, bound, grid);
     }
@@ -317,8 +319,9 @@ fn certified_crossing_with(a: [f64; 3], b: [f64; 3], c: &LevelApprox) -> Option<
         return None;
     }
     let [x, y] = crossing_in_frame(pa, pb, c)?;
-    // Below the image of `2^-1021` the result is a multiple of the
-    // subnormal spacing, decided on that grid: brought back exactly.
+    // Below the image of `2^-1021` (an exact power of two, not a tolerance)
+    // the result is a multiple of the subnormal spacing, decided on that
+    // grid: brought back exactly.
     let back = |v: f64| {
         if v.abs() < c.grid_top {
             Some(frame.place_back(v))

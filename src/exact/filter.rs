@@ -228,8 +228,10 @@ impl<'a> FilteredPoint<'a> {
                 let bounded = |v: f64, zero: bool| match frame.place_normal(v) {
                     _ if v == 0.0 && zero => (0.0, 0.0),
                     Some(placed) if v != 0.0 && placed.abs() >= TINY => (placed, 0.0),
-                    // Below the normal doubles the rounding errs by at most
-                    // `2^-1075`; placed by scaling up, exactly.
+                    // Below the normal doubles (the double's own format,
+                    // not a tolerance) the rounding errs by at most
+                    // `2^-1075`: the error model, not a decision; placed by
+                    // scaling up, exactly.
                     _ if frame.shift() > 0 && v.abs() < f64::MIN_POSITIVE => {
                         (frame.place(v), frame.place(f64::from_bits(1)) / 2.0)
                     }
