@@ -19,7 +19,12 @@
 //! `x +- y`, `x +- z`, `y +- z` (which sharpen the boxes of long faces lying
 //! across the axes, like the radial faces of a flat ring), all as `f32`
 //! bounds that hold the exact ones ([`down32`], [`up32`]), so two faces that
-//! touch have volumes that touch (closed bounds: touching counts).
+//! touch have volumes that touch (closed bounds: touching counts). A leaf
+//! holds its triangles' boxes and vertex ids as columns, so that one
+//! triangle is compared with a whole leaf in a few vector instructions;
+//! the diagonal extents are computed only for the pairs that pass (on a
+//! smooth surface, almost every pair of boxes that meet belongs to faces
+//! sharing a vertex, which are tested elsewhere).
 //! Coordinates beyond the `f32` range give infinite bounds, which only
 //! makes volumes larger.
 
@@ -198,14 +203,60 @@ impl Bounds {
     }
 }
 
-/// A triangle in the tree: its box, vertex ids, position in the input and
-/// group.
+/// [`LEAF`] triangles of the tree as columns, so that one triangle is
+/// tested against all of a leaf at once: their boxes, vertex ids, groups
+/// and positions in the input. A slot past the last triangle (in the last
+/// leaf only) has an empty box, and is masked out before any test.
 #[derive(Clone, Copy, Debug)]
-struct Item {
-    bounds: Bounds,
-    v: [u32; 3],
-    face: u32,
-    group: u32,
+#[repr(C, align(64))]
+struct Leaf {
+    lo: [[f32; LEAF]; 3],
+    hi: [[f32; LEAF]; 3],
+    v: [[u32; LEAF]; 3],
+    group: [u32; LEAF],
+    face: [u32; LEAF],
+}
+
+impl Leaf {
+    const EMPTY: Leaf = Leaf {
+        lo: [[f32::INFINITY; LEAF]; 3],
+        hi: [[f32::NEG_INFINITY; LEAF]; 3],
+        v: [[u32::MAX; LEAF]; 3],
+        group: [NO_GROUP; LEAF],
+        face: [u32::MAX; LEAF],
+    };
+
+    /// The box of slot `s`.
+    #[inline(always)]
+    fn bounds(&self, s: usize) -> Bounds {
+        Bounds {
+            lo: std::array::from_fn(|k| self.lo[k][s]),
+            hi: std::array::from_fn(|k| self.hi[k][s]),
+        }
+    }
+
+    /// Bit `t` set for each slot `t` whose box meets `b`, that shares no
+    /// vertex id with `v` and is in another group than `group` (or either
+    /// is in none). Written lane by lane, without branches, so that the
+    /// compiler turns it into a few vector comparisons.
+    #[inline(always)]
+    fn candidates(&self, b: &Bounds, v: [u32; 3], group: u32) -> u32 {
+        let mut mask = 0u32;
+        for t in 0..LEAF {
+            let meets = (b.lo[0] <= self.hi[0][t])
+                & (self.lo[0][t] <= b.hi[0])
+                & (b.lo[1] <= self.hi[1][t])
+                & (self.lo[1][t] <= b.hi[1])
+                & (b.lo[2] <= self.hi[2][t])
+                & (self.lo[2][t] <= b.hi[2]);
+            let shares = (0..3).fold(false, |acc, k| {
+                acc | (self.v[k][t] == v[0]) | (self.v[k][t] == v[1]) | (self.v[k][t] == v[2])
+            });
+            let grouped = (group != NO_GROUP) & (self.group[t] == group);
+            mask |= u32::from(meets & !shares & !grouped) << t;
+        }
+        mask
+    }
 }
 
 /// A face's extent along the diagonals `x + y`, `x - y`, `x + z`, `x - z`,
@@ -213,7 +264,8 @@ struct Item {
 /// (relative error at most `2^-53`, or an infinity beyond the range, far
 /// inside the margin of [`down32`] and [`up32`]), so the bounds hold the
 /// exact extent, and two faces whose extents along one diagonal are apart
-/// do not meet.
+/// do not meet. Computed for the pairs whose boxes meet only (few beside
+/// the faces sharing a vertex, which are not tested here).
 #[derive(Clone, Copy, Debug)]
 struct Slabs {
     lo: [f32; 6],
@@ -247,19 +299,21 @@ impl Slabs {
 
 /// The hierarchy: a complete binary tree in heap order (node `n` has
 /// children `2 n` and `2 n + 1`, the root is 1), whose `2^height` leaves
-/// (nodes `2^height ..`) hold [`LEAF`] faces each in Morton order (empty
-/// leaves at the end have empty boxes).
-pub(super) struct Bvh {
-    items: Vec<Item>,
-    /// Per item, its extent along the six diagonals (see [`Slabs`]).
-    slabs: Vec<Slabs>,
+/// (nodes `2^height ..`) hold [`LEAF`] triangles each in Morton order
+/// (empty leaves at the end have empty boxes).
+pub(super) struct Bvh<'m> {
+    mesh: &'m Mesh,
+    frame: VolumeFrame,
+    /// The triangles, in leaves.
+    leaves: Vec<Leaf>,
+    /// How many triangles there are.
+    len: usize,
     nodes: Vec<Bounds>,
     /// Per node, the group all its triangles are in, or [`NO_GROUP`].
     tags: Vec<u32>,
     height: u32,
     parallel: bool,
 }
-
 /// Spreads the low 10 bits of `x` to every third bit.
 fn spread(x: u32) -> u32 {
     let mut x = x & 0x3ff;
@@ -341,15 +395,15 @@ fn grouped_order(codes: &[u32], groups: &[u32]) -> Vec<u32> {
     order
 }
 
-impl Bvh {
+impl<'m> Bvh<'m> {
     /// Builds the tree over `tris` (coordinates finite, indices in range),
     /// `groups[t]` the group of triangle `t` (`None`: no groups).
     pub(super) fn build(
-        mesh: &Mesh,
+        mesh: &'m Mesh,
         tris: &[[VertexId; 3]],
         groups: Option<&[u32]>,
         parallel: bool,
-    ) -> Bvh {
+    ) -> Bvh<'m> {
         let min_len = if parallel {
             crate::par::MIN_LEN
         } else {
@@ -375,64 +429,64 @@ impl Bvh {
                 0.0
             }
         });
-        // The Morton code of each triangle's centroid's cell (a heuristic
-        // that shapes the tree only; the casts saturate).
-        let codes: Vec<u32> = tris
+        // Each triangle's box, and the Morton code of its centroid's cell
+        // (a heuristic that shapes the tree only; the casts saturate), in
+        // input order: one pass over the triangles as they are stored.
+        let (boxes, codes): (Vec<Bounds>, Vec<u32>) = tris
             .par_iter()
             .with_min_len(min_len)
             .map(|tri| {
-                let [a, b, c] = frame.place_all(tri.map(|v| mesh.pos(v)));
+                let p = frame.place_all(tri.map(|v| mesh.pos(v)));
                 let mut code = 0u32;
                 for k in 0..3 {
-                    let m = (a[k] + b[k] + c[k]) * (1.0 / 3.0);
+                    let m = (p[0][k] + p[1][k] + p[2][k]) * (1.0 / 3.0);
                     code |= spread(((m - lo[k]) * scale[k]) as u32) << k;
                 }
-                code
-            })
-            .collect();
-        let order = match groups {
-            None => morton_order(&codes),
-            Some(g) => grouped_order(&codes, g),
-        };
-        let group = |t: usize| groups.map_or(NO_GROUP, |g| g[t]);
-        let items: Vec<Item> = order
-            .par_iter()
-            .with_min_len(min_len)
-            .map(|&t| {
-                let v = tris[t as usize].map(|v| v.0);
-                let p = frame.place_all(v.map(|v| mesh.positions[v as usize]));
                 let b = Bounds {
                     lo: std::array::from_fn(|k| down32(min3(p[0][k], p[1][k], p[2][k]))),
                     hi: std::array::from_fn(|k| up32(max3(p[0][k], p[1][k], p[2][k]))),
                 };
-                Item {
-                    bounds: b,
-                    v,
-                    face: t,
-                    group: group(t as usize),
-                }
+                (b, code)
             })
-            .collect();
-        drop(order);
-        let slabs: Vec<Slabs> = items
-            .par_iter()
-            .with_min_len(min_len)
-            .map(|it| Slabs::of(frame.place_all(it.v.map(|v| mesh.positions[v as usize]))))
-            .collect();
-        let leaves = items.len().div_ceil(LEAF).max(1);
-        let height = leaves.next_power_of_two().trailing_zeros();
+            .unzip();
+        let order = match groups {
+            None => morton_order(&codes),
+            Some(g) => grouped_order(&codes, g),
+        };
+        drop(codes);
+        let group = |t: usize| groups.map_or(NO_GROUP, |g| g[t]);
+        let n_leaves = order.len().div_ceil(LEAF).max(1);
+        let mut leaves = vec![Leaf::EMPTY; n_leaves];
+        leaves
+            .par_iter_mut()
+            .with_min_len(min_len / LEAF)
+            .zip(order.par_chunks(LEAF))
+            .for_each(|(leaf, ts)| {
+                for (s, &t) in ts.iter().enumerate() {
+                    let b = &boxes[t as usize];
+                    for (k, v) in tris[t as usize].iter().enumerate() {
+                        leaf.lo[k][s] = b.lo[k];
+                        leaf.hi[k][s] = b.hi[k];
+                        leaf.v[k][s] = v.0;
+                    }
+                    leaf.group[s] = group(t as usize);
+                    leaf.face[s] = t;
+                }
+            });
+        drop(boxes);
+        let height = n_leaves.next_power_of_two().trailing_zeros();
         let first = 1usize << height;
         let mut nodes = vec![Bounds::EMPTY; 2 * first];
         let mut tags = vec![NO_GROUP; 2 * first];
-        nodes[first..first + leaves]
+        nodes[first..first + n_leaves]
             .par_iter_mut()
-            .zip(&mut tags[first..first + leaves])
+            .zip(&mut tags[first..first + n_leaves])
             .with_min_len(min_len / LEAF)
-            .zip(items.par_chunks(LEAF))
-            .for_each(|((n, tag), c)| {
-                *n = c.iter().fold(Bounds::EMPTY, |b, x| b.union(&x.bounds));
-                if c.iter().all(|x| x.group == c[0].group) {
-                    *tag = c[0].group;
+            .zip(leaves.par_iter().zip(order.par_chunks(LEAF)))
+            .for_each(|((n, tag), (leaf, ts))| {
+                *n = (0..ts.len()).fold(Bounds::EMPTY, |b, s| b.union(&leaf.bounds(s)));
+                if leaf.group[..ts.len()].iter().all(|&g| g == leaf.group[0]) {
+                    *tag = leaf.group[0];
                 }
             });
         for n in (1..first).rev() {
@@ -442,8 +496,10 @@ impl Bvh {
             }
         }
         Bvh {
-            items,
-            slabs,
+            mesh,
+            frame,
+            leaves,
+            len: order.len(),
             nodes,
             tags,
             height,
@@ -464,11 +520,17 @@ impl Bvh {
         found
     }
 
-    /// The positions of the faces of leaf `i` (none for a padding leaf).
+    /// How many slots of leaf `i` hold a triangle (none for a padding
+    /// leaf of the complete tree).
     #[inline]
-    fn leaf(&self, i: usize) -> std::ops::Range<usize> {
-        let n = self.items.len();
-        (i * LEAF).min(n)..((i + 1) * LEAF).min(n)
+    fn filled(&self, i: usize) -> usize {
+        self.len.saturating_sub(i * LEAF).min(LEAF)
+    }
+
+    /// The bits of the first `n` slots of a leaf.
+    #[inline]
+    fn slots(n: usize) -> u32 {
+        (1u32 << n) - 1
     }
 
     #[inline]
@@ -485,11 +547,16 @@ impl Bvh {
             return;
         }
         if h == 0 {
-            let own = self.leaf(n - (1 << self.height));
-            for a in own.clone() {
-                for b in a + 1..own.end {
-                    self.visit(a, b, test, found);
-                }
+            let i = n - (1 << self.height);
+            let Some(leaf) = self.leaves.get(i) else {
+                return;
+            };
+            let n = self.filled(i);
+            for s in 0..n {
+                let later = !0u32 << (s + 1) & Self::slots(n);
+                let v = [0, 1, 2].map(|k| leaf.v[k][s]);
+                let mask = leaf.candidates(&leaf.bounds(s), v, leaf.group[s]) & later;
+                self.visit(leaf, s, leaf, mask, test, found);
             }
             return;
         }
@@ -528,7 +595,7 @@ impl Bvh {
         }
         if h == 0 {
             let first = 1 << self.height;
-            return self.leaf_pair(i - first, j - first, bi, bj, test, found);
+            return self.leaf_pair(i - first, j - first, bj, test, found);
         }
         let (i0, i1, j0, j1) = (2 * i, 2 * i + 1, 2 * j, 2 * j + 1);
         if self.par(h) {
@@ -560,54 +627,53 @@ impl Bvh {
         }
     }
 
-    /// The pairs with one face in leaf `i` and one in leaf `j` (of boxes
-    /// `bi`, `bj`): only faces that meet the other leaf's box.
+    /// The pairs with one face in leaf `i` and one in leaf `j` (of box
+    /// `bj`): each face of `i` that meets `bj`, against every face of `j`
+    /// at once.
     #[inline]
-    fn leaf_pair<T>(
-        &self,
-        i: usize,
-        j: usize,
-        bi: &Bounds,
-        bj: &Bounds,
-        test: &T,
-        found: &mut Found,
-    ) where
+    fn leaf_pair<T>(&self, i: usize, j: usize, bj: &Bounds, test: &T, found: &mut Found)
+    where
         T: Fn(FaceId, FaceId) -> bool,
     {
-        let mut near = [0usize; LEAF];
-        let mut n = 0;
-        for b in self.leaf(j) {
-            near[n] = b;
-            n += usize::from(self.items[b].bounds.meets(bi));
-        }
-        if n == 0 {
+        let (Some(li), Some(lj)) = (self.leaves.get(i), self.leaves.get(j)) else {
             return;
-        }
-        for a in self.leaf(i) {
-            if self.items[a].bounds.meets(bj) {
-                for &b in &near[..n] {
-                    self.visit(a, b, test, found);
-                }
+        };
+        let filled = Self::slots(self.filled(j));
+        for s in 0..self.filled(i) {
+            let b = li.bounds(s);
+            if b.meets(bj) {
+                let v = [0, 1, 2].map(|k| li.v[k][s]);
+                let mask = lj.candidates(&b, v, li.group[s]) & filled;
+                self.visit(li, s, lj, mask, test, found);
             }
         }
     }
 
-    /// Tests the triangles at positions `a` and `b` when their volumes
-    /// meet, they share no vertex id and are not in one group.
+    /// Tests the triangle in slot `s` of `a` against the triangles in the
+    /// slots of `b` whose bits are set in `mask` (boxes that meet, no
+    /// shared vertex id, not in one group) when their diagonal extents
+    /// meet too.
     #[inline(always)]
-    fn visit<T>(&self, a: usize, b: usize, test: &T, found: &mut Found)
+    fn visit<T>(&self, a: &Leaf, s: usize, b: &Leaf, mut mask: u32, test: &T, found: &mut Found)
     where
         T: Fn(FaceId, FaceId) -> bool,
     {
-        let (x, y) = (&self.items[a], &self.items[b]);
-        if x.bounds.meets(&y.bounds)
-            && (x.group == NO_GROUP || x.group != y.group)
-            && !x.v.iter().any(|v| y.v.contains(v))
-            && self.slabs[a].meets(&self.slabs[b])
-        {
-            let (fa, fb) = (FaceId(x.face), FaceId(y.face));
-            if test(fa, fb) {
-                found.push(fa, fb);
+        if mask == 0 {
+            return;
+        }
+        let slabs = |l: &Leaf, t: usize| {
+            let v = [0, 1, 2].map(|k| l.v[k][t] as usize);
+            Slabs::of(self.frame.place_all(v.map(|v| self.mesh.positions[v])))
+        };
+        let sa = slabs(a, s);
+        while mask != 0 {
+            let t = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            if sa.meets(&slabs(b, t)) {
+                let (fa, fb) = (FaceId(a.face[s]), FaceId(b.face[t]));
+                if test(fa, fb) {
+                    found.push(fa, fb);
+                }
             }
         }
     }
