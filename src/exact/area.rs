@@ -314,6 +314,13 @@ impl AreaSum {
         self.product.bits() + 1
     }
 
+    /// Whether the exact area is `r`: one cross-multiplication, no
+    /// reduction (a claimed area in lowest terms is checked, and then
+    /// taken, at the cost of a product).
+    pub fn is(&self, r: &Rat) -> bool {
+        &self.twice * r.denom() == r.numer() * (&self.product * 2)
+    }
+
     /// The exact area in lowest terms.
     pub fn reduce(self) -> Rat {
         if self.twice.is_zero() {
@@ -357,15 +364,26 @@ fn chain_sum(h: &[Homogeneous], l: usize, r: usize) -> (BigInt, BigInt) {
     (a1 * &q2 + a2 * q1, p1 * q2)
 }
 
-/// `num / den` in lowest terms, where `den` is the product of `factors`
-/// (small numbers): the common part is removed factor by factor, each
-/// step a division by a small number, so no gcd of two big numbers is
-/// ever taken. Afterwards every factor is coprime to the numerator, hence
-/// so is their product.
+/// `num / den` (`num != 0`) in lowest terms, where `den` is the product
+/// of `factors` (small numbers, or small ones times large powers of two,
+/// as the denominators of a mesh near `1e-300` are).
+///
+/// The common power of two goes first, by shifts: then `num` or `den` is
+/// odd, and `den = 2^r F` with `F` the product of the factors' odd parts
+/// and `r = 0` or `num` odd. The common odd part is removed factor by
+/// factor, each step a division by a small odd number, so no gcd of two
+/// big numbers is ever taken; `den = 2^r F` holds throughout, with `F`
+/// the product of what is left of the factors. Afterwards every odd part
+/// is coprime to the numerator, hence so is `den`.
 fn lowest_terms(num: BigInt, den: BigInt, factors: Vec<BigUint>) -> Rat {
     let negative = num.is_negative();
     let (mut num, mut den) = (num.into_parts().1, den.into_parts().1);
-    for mut f in factors {
+    let twos = |v: &BigUint| v.trailing_zeros().unwrap_or(0);
+    let shift = twos(&num).min(twos(&den));
+    num >>= shift;
+    den >>= shift;
+    for f in factors {
+        let mut f = &f >> twos(&f);
         while !f.is_one() {
             let g = (&num % &f).gcd(&f);
             if g.is_one() {
