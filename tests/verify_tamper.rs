@@ -398,6 +398,24 @@ fn rational_not_in_lowest_terms_is_caught() {
     ));
 }
 
+/// A claimed area in lowest terms is taken once it equals the exact sum
+/// (cross-multiplied): one of another value is reported with the true
+/// area, reduced by hand (the unit cube's section has area 1).
+#[test]
+fn wrong_area_in_lowest_terms_is_caught_with_the_true_area() {
+    let r = tamper("unit_cube", &["1/2"], |d| {
+        list(level(d, 0), "contours")[0].set("area_exact", text("3/2"));
+    });
+    assert!(
+        has(&r, |v| matches!(
+            &v.problem,
+            Problem::WrongArea { claimed, actual } if claimed == "3/2" && actual == "1"
+        )),
+        "{}",
+        listing(&r)
+    );
+}
+
 #[test]
 fn the_command_line_exits_0_on_a_correct_result_and_6_listing_violations() {
     let dir = tempfile::tempdir().unwrap();

@@ -17,11 +17,12 @@ use super::facts::{face_piece, Side};
 use crate::exact::perturbed::{EpsPoint, Motion, Towards};
 use crate::exact::planar::Planar;
 use crate::exact::point::LoopPoint;
-use crate::exact::rational::{rat_from_f64, Rat};
+use crate::exact::rational::{decompose, Rat};
 use crate::exact::{Point2, Sign};
 use crate::ids::VertexId;
 use crate::mesh::topology::Topology;
 use crate::mesh::Mesh;
+use num_bigint::BigInt;
 use num_traits::Zero;
 use std::cmp::Ordering;
 use std::collections::HashMap;
@@ -146,14 +147,7 @@ impl Moving {
         let mut motions = Vec::with_capacity(edges.len());
         for &e in edges {
             let [a, b] = topo.edges[e as usize].v.map(|v: VertexId| mesh.pos(v));
-            let (za, zb) = (rat_from_f64(a[2]), rat_from_f64(b[2]));
-            let t = (c - &za) / (&zb - &za);
-            let lerp =
-                |k: usize| rat_from_f64(a[k]) + (rat_from_f64(b[k]) - rat_from_f64(a[k])) * &t;
-            limits.push(LoopPoint::from(Point2 {
-                x: lerp(0),
-                y: lerp(1),
-            }));
+            limits.push(LoopPoint::from(crossing(a, b, c)));
             motions.push(Motion { a, b, towards });
         }
         Moving { limits, motions }
@@ -166,6 +160,40 @@ impl Moving {
             .zip(&self.motions)
             .map(|(l, &m)| EpsPoint::new(l, m))
             .collect()
+    }
+}
+
+/// The crossing of edge `(a, b)` (`a[2] != b[2]`) with the plane `z = c`,
+/// in plain big integers: `x = (ax (zb - c) + bx (c - za)) / (zb - za)`
+/// with every double an integer in units of `2^e` (the least exponent of
+/// the six), so each coordinate is one fraction, brought to lowest terms
+/// once (near `1e-300`, with a decimal level, its terms have hundreds of
+/// digits, and a reduction after every operation took most of `verify`).
+fn crossing(a: [f64; 3], b: [f64; 3], c: &Rat) -> Point2 {
+    let parts = [a[0], a[1], a[2], b[0], b[1], b[2]].map(decompose);
+    let e = parts.iter().flatten().map(|&(_, k)| k).min().unwrap_or(0);
+    // Each double times 2^-e: an integer, as k >= e.
+    let [ax, ay, za, bx, by, zb] =
+        parts.map(|p| p.map_or_else(BigInt::zero, |(m, k)| BigInt::from(m) << (k - e)));
+    // c 2^-e = p / q.
+    let (p, q) = if e <= 0 {
+        (c.numer() << -e, c.denom().clone())
+    } else {
+        (c.numer().clone(), c.denom() << e)
+    };
+    let (wa, wb) = (&zb * &q - &p, &p - &za * &q);
+    let den = &q * (&zb - &za);
+    let coordinate = |u: &BigInt, v: &BigInt| {
+        let num = u * &wa + v * &wb;
+        if e >= 0 {
+            Rat::new(num << e, den.clone())
+        } else {
+            Rat::new(num, &den << -e)
+        }
+    };
+    Point2 {
+        x: coordinate(&ax, &bx),
+        y: coordinate(&ay, &by),
     }
 }
 
@@ -209,4 +237,45 @@ pub(super) fn inside(poly: &[EpsPoint<'_>], r: &EpsPoint<'_>) -> bool {
         }
     }
     odd
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::exact::rational::rat_from_f64;
+    use proptest::prelude::*;
+
+    /// A double of any exponent (finite; zero now and then).
+    fn any_double() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            1 => Just(0.0),
+            8 => any::<u64>().prop_map(f64::from_bits).prop_filter("finite", |x| x.is_finite()),
+            4 => (-1000i32..1000, -1000.0f64..1000.0).prop_map(|(k, m)| m * 2f64.powi(k / 10)),
+        ]
+    }
+
+    proptest! {
+        /// The one-fraction crossing equals `a + (b - a) t`, `t = (c -
+        /// za) / (zb - za)`, in rationals step by step, at a level between
+        /// the ends (its decimal neighbours too).
+        #[test]
+        fn crossing_agrees_with_the_stepwise_rationals(
+            a in prop::array::uniform3(any_double()),
+            b in prop::array::uniform3(any_double()),
+            t in 1u32..1000,
+            tenth in any::<bool>(),
+        ) {
+            prop_assume!(a[2] != b[2]);
+            let (za, zb) = (rat_from_f64(a[2]), rat_from_f64(b[2]));
+            let mut c = &za + (&zb - &za) * Rat::new(t.into(), 1000.into());
+            if tenth {
+                c += Rat::new(1.into(), 10.into());
+            }
+            let s = (&c - &za) / (&zb - &za);
+            let lerp = |k: usize| rat_from_f64(a[k]) + (rat_from_f64(b[k]) - rat_from_f64(a[k])) * &s;
+            let p = crossing(a, b, &c);
+            prop_assert_eq!(p.x, lerp(0));
+            prop_assert_eq!(p.y, lerp(1));
+        }
+    }
 }

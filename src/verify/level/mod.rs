@@ -10,7 +10,7 @@ mod kinds;
 mod limits;
 mod regions;
 
-use crate::exact::area::signed_area;
+use crate::exact::area::AreaSum;
 use crate::exact::rational::{parse_rational, rat_to_f64, rat_to_string, Rat};
 use crate::exact::{Level, Point2, Sign};
 use crate::mesh::topology::Topology;
@@ -19,6 +19,8 @@ use crate::verify::doc::{LevelDoc, LoopDoc, On};
 use crate::verify::facts::{Facing, Facts, Pieces, Side};
 use crate::verify::geometry::{Family as Loops, Pt};
 use crate::verify::report::{Checked, Family, Other, Place, Problem, Violation};
+use num_bigint::BigInt;
+use num_integer::Integer;
 use num_traits::One;
 use std::cell::OnceCell;
 use std::collections::{HashMap, HashSet};
@@ -154,11 +156,10 @@ fn exact_field(
     None
 }
 
-/// Whether `text` is the canonical text of `r` (`"p"` or `"p/q"`, lowest
-/// terms, `q > 1`, no sign but a leading `-`, no leading zeros): the text is
-/// checked for that syntax and its integers compared with `r`'s, which is
-/// cheaper than formatting `r`.
-fn is_text_of(text: &str, r: &Rat) -> bool {
+/// The rational `text` writes in the canonical syntax (`"p"` or `"p/q"`,
+/// `q > 1`, no sign but a leading `-`, no leading zeros, no `-0`), as
+/// written: not reduced, so lowest terms are the caller's to check.
+fn canonical_rational(text: &str) -> Option<Rat> {
     let digits = |t: &str| {
         !t.is_empty() && t.bytes().all(|b| b.is_ascii_digit()) && (t == "0" || !t.starts_with('0'))
     };
@@ -168,21 +169,23 @@ fn is_text_of(text: &str, r: &Rat) -> bool {
     };
     let magnitude = num.strip_prefix('-').unwrap_or(num);
     if !digits(magnitude) || num == "-0" {
-        return false;
+        return None;
     }
-    let numer_ok = num
-        .parse::<num_bigint::BigInt>()
-        .is_ok_and(|n| &n == r.numer());
-    match den {
-        None => numer_ok && r.denom().is_one(),
-        Some(d) => {
-            digits(d)
-                && d != "1"
-                && numer_ok
-                && d.parse::<num_bigint::BigInt>()
-                    .is_ok_and(|q| &q == r.denom())
-        }
-    }
+    let p = num.parse::<BigInt>().ok()?;
+    let q = match den {
+        None => BigInt::one(),
+        Some(d) if digits(d) && d != "1" => d.parse::<BigInt>().ok()?,
+        Some(_) => return None,
+    };
+    Some(Rat::new_raw(p, q))
+}
+
+/// Whether `text` is the canonical text of `r` (see
+/// [`canonical_rational`]; lowest terms, as `r` is): the text is checked
+/// for that syntax and its integers compared with `r`'s, which is cheaper
+/// than formatting `r`.
+fn is_text_of(text: &str, r: &Rat) -> bool {
+    canonical_rational(text).is_some_and(|t| t.numer() == r.numer() && t.denom() == r.denom())
 }
 
 struct LevelCheck<'a, 'o> {
@@ -427,7 +430,12 @@ impl LevelCheck<'_, '_> {
             return None;
         }
         let exact: Vec<Point2> = pts.iter().map(|p| p.p.clone()).collect();
-        let area = signed_area(&exact);
+        // The claimed area, when it is written in lowest terms and equals
+        // the exact sum (cross-multiplied); else the sum reduced.
+        let sum = AreaSum::of([&exact[..]]);
+        let area = canonical_rational(&d.area_exact)
+            .filter(|r| r.numer().gcd(r.denom()).is_one() && sum.is(r))
+            .unwrap_or_else(|| sum.reduce());
         if is_text_of(&d.area_exact, &area) {
             // Exact and canonical.
         } else if let Some(claimed) = self.exact(whole.clone(), "area_exact", &d.area_exact) {
