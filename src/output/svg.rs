@@ -31,6 +31,7 @@ use crate::levelset::{LevelSet, Loop};
 use crate::mesh::Mesh;
 use crate::nest::Role;
 use std::fmt::Write;
+use std::sync::Arc;
 
 /// The colours of the drawing, shared by the SVG files and the HTML viewer
 /// (tests look for them in screenshots).
@@ -366,13 +367,25 @@ pub fn drawing(ls: &LevelSet, scene: &Scene, opts: &SvgOptions) -> Drawing {
     }
     s.push_str("</g>\n");
 
+    // Each loop's exact area, written once per family: at a regular level
+    // L- and L+ are S_O itself (one shared list), and their areas are not
+    // computed again (each costs a reduction to lowest terms).
+    let areas = |loops: &[Loop]| -> Vec<String> {
+        loops.iter().map(|l| rat_to_string(&l.area())).collect()
+    };
+    let contour_areas = areas(&ls.contours);
+
     // L- and L+ (under S_O, which hides them where they coincide).
     for (group, class, loops) in [
         ("layer-lminus", "lminus", &ls.below),
         ("layer-lplus", "lplus", &ls.above),
     ] {
         let _ = writeln!(s, r#"<g class="{group}">"#);
-        loops_as_paths(&mut s, class, loops);
+        if Arc::ptr_eq(loops, &ls.contours) {
+            loops_as_paths(&mut s, class, loops, &contour_areas);
+        } else {
+            loops_as_paths(&mut s, class, loops, &areas(loops));
+        }
         s.push_str("</g>\n");
     }
 
@@ -394,17 +407,16 @@ pub fn drawing(ls: &LevelSet, scene: &Scene, opts: &SvgOptions) -> Drawing {
         let _ = writeln!(
             s,
             r#"<path class="so outer" fill-rule="evenodd" data-area="{}" d="{d}"/>"#,
-            rat_to_string(&l.area())
+            contour_areas[i]
         );
     }
-    for l in ls.contours.iter().filter(|l| l.role == Role::Hole) {
+    for (l, area) in ls.contours.iter().zip(&contour_areas) {
+        if l.role != Role::Hole {
+            continue;
+        }
         let mut d = String::new();
         subpath(&mut d, &rounded(&l.points), true);
-        let _ = writeln!(
-            s,
-            r#"<path class="so hole" data-area="{}" d="{d}"/>"#,
-            rat_to_string(&l.area())
-        );
+        let _ = writeln!(s, r#"<path class="so hole" data-area="{area}" d="{d}"/>"#);
     }
     if opts.arrows {
         for l in ls.contours.iter() {
@@ -481,8 +493,9 @@ pub fn drawing(ls: &LevelSet, scene: &Scene, opts: &SvgOptions) -> Drawing {
     Drawing { view_box, body: s }
 }
 
-fn loops_as_paths(s: &mut String, class: &str, loops: &[Loop]) {
-    for l in loops {
+/// The loops as paths, `areas[k]` the exact area text of loop `k`.
+fn loops_as_paths(s: &mut String, class: &str, loops: &[Loop], areas: &[String]) {
+    for (l, area) in loops.iter().zip(areas) {
         let mut d = String::new();
         subpath(&mut d, &rounded(&l.points), true);
         // Limits are drawn as lines, never filled; a collapsed one is
@@ -490,9 +503,8 @@ fn loops_as_paths(s: &mut String, class: &str, loops: &[Loop]) {
         let collapsed = if l.collapsed { " collapsed" } else { "" };
         let _ = writeln!(
             s,
-            r#"<path class="{class} {}{collapsed}" data-area="{}" d="{d}"/>"#,
+            r#"<path class="{class} {}{collapsed}" data-area="{area}" d="{d}"/>"#,
             role_class(l.role),
-            rat_to_string(&l.area())
         );
     }
 }
