@@ -38,8 +38,9 @@ use rayon::prelude::*;
 /// The group of a triangle in no group.
 pub(super) const NO_GROUP: u32 = u32::MAX;
 
-/// Faces per leaf.
+/// Faces per leaf (fewer than 32: a leaf's slots are the bits of a `u32`).
 const LEAF: usize = 8;
+const _: () = assert!(LEAF < 32);
 
 /// Heights (a node there holds `2^height` leaves) at and above which the
 /// halves of a node are tested on separate rayon tasks.
@@ -314,6 +315,7 @@ pub(super) struct Bvh<'m> {
     height: u32,
     parallel: bool,
 }
+
 /// Spreads the low 10 bits of `x` to every third bit.
 fn spread(x: u32) -> u32 {
     let mut x = x & 0x3ff;

@@ -174,7 +174,7 @@ fn canonical_rational(text: &str) -> Option<Rat> {
     let p = num.parse::<BigInt>().ok()?;
     let q = match den {
         None => BigInt::one(),
-        Some(d) if digits(d) && d != "1" => d.parse::<BigInt>().ok()?,
+        Some(d) if digits(d) && d != "0" && d != "1" => d.parse::<BigInt>().ok()?,
         Some(_) => return None,
     };
     Some(Rat::new_raw(p, q))
@@ -430,25 +430,30 @@ impl LevelCheck<'_, '_> {
             return None;
         }
         let exact: Vec<Point2> = pts.iter().map(|p| p.p.clone()).collect();
-        // The claimed area, when it is written in lowest terms and equals
-        // the exact sum (cross-multiplied); else the sum reduced.
+        // The claimed area is taken when it is written in lowest terms and
+        // equals the exact sum (one cross-multiplication); else the sum is
+        // reduced and the claim reported against it.
         let sum = AreaSum::of([&exact[..]]);
-        let area = canonical_rational(&d.area_exact)
-            .filter(|r| r.numer().gcd(r.denom()).is_one() && sum.is(r))
-            .unwrap_or_else(|| sum.reduce());
-        if is_text_of(&d.area_exact, &area) {
+        let in_lowest_terms =
+            canonical_rational(&d.area_exact).filter(|r| r.numer().gcd(r.denom()).is_one());
+        let area = match in_lowest_terms {
             // Exact and canonical.
-        } else if let Some(claimed) = self.exact(whole.clone(), "area_exact", &d.area_exact) {
-            if claimed != area {
-                self.push(
-                    whole.clone(),
-                    Problem::WrongArea {
-                        claimed: rat_to_string(&claimed),
-                        actual: rat_to_string(&area),
-                    },
-                );
+            Some(r) if sum.is(&r) => r,
+            _ => {
+                let area = sum.reduce();
+                let claimed = self.exact(whole.clone(), "area_exact", &d.area_exact);
+                if let Some(claimed) = claimed.filter(|c| *c != area) {
+                    self.push(
+                        whole.clone(),
+                        Problem::WrongArea {
+                            claimed: rat_to_string(&claimed),
+                            actual: rat_to_string(&area),
+                        },
+                    );
+                }
+                area
             }
-        }
+        };
         self.nearest(whole, "rounded area", &d.area, &area);
         Some(Geom {
             item,
