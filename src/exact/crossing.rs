@@ -240,8 +240,11 @@ fn coordinate(
     if !(OUT_LO..=OUT_HI).contains(&f.abs()) || !bound.is_finite() {
         return None;
     }
-    // Which grid the output rounds to (the exact image of `2^-1021`, not a
-    // tolerance): below it the doubles are spaced by `2^-1074`.
+    // Which grid the nearest double rounds to (the exact image of
+    // `2^-1021`, not a tolerance): below it the doubles are spaced by
+    // `2^-1074`. This picks the rounding of the coordinate written out
+    // (and handed to the filters with its error bound); no classification,
+    // chaining, orientation or nesting decision is taken here.
     if f.abs() < grid_top {
         return on_subnormal_grid(f, e, bound, grid);
     }
@@ -321,7 +324,8 @@ fn certified_crossing_with(a: [f64; 3], b: [f64; 3], c: &LevelApprox) -> Option<
     let [x, y] = crossing_in_frame(pa, pb, c)?;
     // Below the image of `2^-1021` (an exact power of two, not a tolerance)
     // the result is a multiple of the subnormal spacing, decided on that
-    // grid: brought back exactly.
+    // grid: brought back exactly. Only how the rounded output coordinate is
+    // brought back depends on it, never a decision of the slicer.
     let back = |v: f64| {
         if v.abs() < c.grid_top {
             Some(frame.place_back(v))
