@@ -11,8 +11,10 @@
 //! run when the runs are merged, with a randomly keyed hash so that no file
 //! can be crafted to collide).
 
-use hashbrown::HashTable;
 use rayon::prelude::*;
+
+mod table;
+use table::Table;
 
 use super::Mesh;
 use crate::ids::VertexId;
@@ -112,15 +114,27 @@ const TOO_MANY_VERTICES: WeldError = WeldError::TooManyElements {
     limit: MAX_ELEMENTS,
 };
 
-/// Corners `range` welded with one table of vertex ids (four bytes a
+/// Corners `range` welded with one table of vertex ids (eight bytes a
 /// slot; a lookup compares the corner with the kept vertex's
 /// coordinates): the distinct positions in first-seen order, each
 /// corner's id among them, and the table.
 struct Run {
     positions: Vec<[f64; 3]>,
     ids: Vec<u32>,
-    index: HashTable<u32>,
+    index: Table,
 }
+
+/// A corner read, with its key and the key's hash (`None`: a NaN
+/// coordinate, never merged).
+#[derive(Clone, Copy)]
+struct Corner {
+    p: [f64; 3],
+    key: Option<([u64; 3], u64)>,
+}
+
+/// How many corners ahead of the one being welded the table's slot is
+/// asked for (a 1 M-triangle STL: 8 and 16 equally fast, 4 slower).
+const AHEAD: usize = 16;
 
 /// `vertices`: the room to make for distinct positions.
 fn weld_run(
@@ -132,24 +146,48 @@ fn weld_run(
     let mut run = Run {
         positions: Vec::with_capacity(vertices),
         ids: Vec::with_capacity(range.len()),
-        index: HashTable::with_capacity(vertices),
+        index: Table::with_capacity(vertices),
     };
-    for i in range {
-        let id = run.id_of(corner(i), hasher)?;
+    let read = |i: usize| {
+        let p = corner(i);
+        let key = corner_key(&p).map(|k| (k, hasher.hash_one(k)));
+        Corner { p, key }
+    };
+    // The next AHEAD corners, read and their slots asked for: corner i is
+    // at i % AHEAD until it is welded.
+    let mut ahead = [Corner {
+        p: [0.0; 3],
+        key: None,
+    }; AHEAD];
+    for i in range.clone().take(AHEAD) {
+        ahead[i % AHEAD] = read(i);
+        run.prefetch(&ahead[i % AHEAD]);
+    }
+    for i in range.clone() {
+        let c = ahead[i % AHEAD];
+        if i + AHEAD < range.end {
+            ahead[i % AHEAD] = read(i + AHEAD);
+            run.prefetch(&ahead[i % AHEAD]);
+        }
+        let id = run.id_of(c, hasher)?;
         run.ids.push(id);
     }
     Ok(run)
 }
 
 impl Run {
-    /// The id of the vertex at `p`, a new one if `p` was not seen (or has a
+    fn prefetch(&self, c: &Corner) {
+        if let Some((_, h)) = c.key {
+            self.index.prefetch(h);
+        }
+    }
+
+    /// The id of the vertex at `c`, a new one if it was not seen (or has a
     /// NaN coordinate).
-    fn id_of(&mut self, p: [f64; 3], hasher: &ahash::RandomState) -> Result<u32, WeldError> {
-        let key = corner_key(&p);
-        let hash = key.map(|k| hasher.hash_one(k));
+    fn id_of(&mut self, c: Corner, hasher: &ahash::RandomState) -> Result<u32, WeldError> {
         let positions = &self.positions;
-        if let (Some(k), Some(h)) = (key, hash) {
-            if let Some(&id) = self.index.find(h, |&id| kept_key(positions, id) == k) {
+        if let Some((k, h)) = c.key {
+            if let Some(id) = self.index.find(h, |id| kept_key(positions, id) == k) {
                 return Ok(id);
             }
         }
@@ -157,11 +195,11 @@ impl Run {
             .ok()
             .filter(|&id| (id as usize) < MAX_ELEMENTS)
             .ok_or(TOO_MANY_VERTICES)?;
-        self.positions.push(p);
-        if let Some(h) = hash {
+        self.positions.push(c.p);
+        if let Some((_, h)) = c.key {
             let positions = &self.positions;
             self.index
-                .insert_unique(h, id, |&id| hasher.hash_one(kept_key(positions, id)));
+                .insert(h, id, |id| hasher.hash_one(kept_key(positions, id)));
         }
         Ok(id)
     }
@@ -207,8 +245,8 @@ fn weld_in_runs(
                 earlier.iter().enumerate().find_map(|(j, run)| {
                     let id = run
                         .index
-                        .find(hash, |&id| kept_key(&run.positions, id) == key)?;
-                    Some((j as u32, *id))
+                        .find(hash, |id| kept_key(&run.positions, id) == key)?;
+                    Some((j as u32, id))
                 })
             };
             if part.positions.len() >= par::MIN_LEN {
@@ -394,6 +432,27 @@ mod tests {
         assert!(positions.len() > 3 * par::MIN_LEN);
         assert_eq!(w.mesh.faces, faces);
         assert_eq!(w.mesh.positions.len(), positions.len());
+    }
+
+    /// A soup whose corners are mostly distinct (three times the room the
+    /// table is made with, so it grows while corners are asked for ahead):
+    /// the weld still equals the linear search.
+    #[test]
+    fn mostly_distinct_corners_grow_the_table() {
+        let soup: Vec<[[f64; 3]; 3]> = (0..1000u32)
+            .map(|t| {
+                let p = |k: u32| {
+                    let v = f64::from((t * 3 + k) % 2500);
+                    [v, -v * 0.5, f64::from(k)]
+                };
+                [p(0), p(1), p(2)]
+            })
+            .collect();
+        let (positions, faces) = weld_by_search(&soup);
+        assert!(positions.len() > 2000);
+        let w = weld_exact(&soup);
+        assert_eq!(w.mesh.faces, faces);
+        assert_eq!(w.mesh.positions, positions);
     }
 
     proptest::proptest! {
