@@ -4,7 +4,7 @@
 //! a named pipe, `/dev/stdout`) is written in place instead: renaming over
 //! it would replace a device with a file.
 //!
-//! On Linux a large output goes to the disk straight from aligned 4 MB
+//! On Linux a large output goes to the disk straight from aligned 1 MB
 //! buffers (`O_DIRECT`) where the file system allows it, written by a
 //! thread of its own while the next buffer fills: it then costs no
 //! page-cache copy, no write-back work on the CPUs that slice and no wait
@@ -202,8 +202,14 @@ mod direct {
     /// Alignment of buffers, offsets and lengths: 4096 covers disks with
     /// 512- and 4096-byte blocks.
     const ALIGN: usize = 4096;
-    /// Bytes per direct write.
-    const CHUNK: usize = 4 << 20;
+    /// Bytes per direct write. The buffers are recycled once SPARE + 1
+    /// have filled, so their page faults are paid for at most 4 MB: an 11
+    /// MB JSON (fuze.obj x 2000 layers) took 3 289 page faults with 4 MB
+    /// chunks, 1 576 with these. Wall time, median of 5, one CPU:
+    /// fandisk.obj 0.115 -> 0.107 s, torus.STL 0.239 -> 0.220 s, ico4.obj
+    /// 0.066 -> 0.058 s, fuze.obj unchanged within noise, a 314 MB output
+    /// unchanged.
+    pub(super) const CHUNK: usize = 1 << 20;
     /// Chunks besides the one filling: room for bursts of output while the
     /// disk catches up.
     const SPARE: usize = 3;
@@ -487,7 +493,10 @@ mod tests {
     #[test]
     fn every_size_arrives_whole() {
         let dir = tempfile::tempdir().unwrap();
-        let chunk = 4 << 20;
+        #[cfg(target_os = "linux")]
+        let chunk = direct::CHUNK;
+        #[cfg(not(target_os = "linux"))]
+        let chunk = 1 << 20;
         for (i, size) in [
             0,
             1,
