@@ -236,6 +236,23 @@ impl Leaf {
         }
     }
 
+    /// Bit `t` set for each slot `t` whose box meets `b` (vector
+    /// comparisons, as in [`Leaf::candidates`]).
+    #[inline(always)]
+    fn meeting(&self, b: &Bounds) -> u32 {
+        let mut mask = 0u32;
+        for t in 0..LEAF {
+            let meets = (b.lo[0] <= self.hi[0][t])
+                & (self.lo[0][t] <= b.hi[0])
+                & (b.lo[1] <= self.hi[1][t])
+                & (self.lo[1][t] <= b.hi[1])
+                & (b.lo[2] <= self.hi[2][t])
+                & (self.lo[2][t] <= b.hi[2]);
+            mask |= u32::from(meets) << t;
+        }
+        mask
+    }
+
     /// Bit `t` set for each slot `t` whose box meets `b`, that shares no
     /// vertex id with `v` and is in another group than `group` (or either
     /// is in none). Written lane by lane, without branches, so that the
@@ -597,7 +614,7 @@ impl<'m> Bvh<'m> {
         }
         if h == 0 {
             let first = 1 << self.height;
-            return self.leaf_pair(i - first, j - first, bj, test, found);
+            return self.leaf_pair(i - first, j - first, [bi, bj], test, found);
         }
         let (i0, i1, j0, j1) = (2 * i, 2 * i + 1, 2 * j, 2 * j + 1);
         if self.par(h) {
@@ -629,25 +646,29 @@ impl<'m> Bvh<'m> {
         }
     }
 
-    /// The pairs with one face in leaf `i` and one in leaf `j` (of box
-    /// `bj`): each face of `i` that meets `bj`, against every face of `j`
-    /// at once.
+    /// The pairs with one face in leaf `i` (of box `bi`) and one in leaf
+    /// `j` (of box `bj`): the faces of each that meet the other's box
+    /// (two vector tests; most leaf pairs end here), then each such face
+    /// of `i` against those of `j` at once.
     #[inline]
-    fn leaf_pair<T>(&self, i: usize, j: usize, bj: &Bounds, test: &T, found: &mut Found)
+    fn leaf_pair<T>(&self, i: usize, j: usize, [bi, bj]: [&Bounds; 2], test: &T, found: &mut Found)
     where
         T: Fn(FaceId, FaceId) -> bool,
     {
         let (Some(li), Some(lj)) = (self.leaves.get(i), self.leaves.get(j)) else {
             return;
         };
-        let filled = Self::slots(self.filled(j));
-        for s in 0..self.filled(i) {
-            let b = li.bounds(s);
-            if b.meets(bj) {
-                let v = [0, 1, 2].map(|k| li.v[k][s]);
-                let mask = lj.candidates(&b, v, li.group[s]) & filled;
-                self.visit(li, s, lj, mask, test, found);
-            }
+        let in_j = lj.meeting(bi) & Self::slots(self.filled(j));
+        if in_j == 0 {
+            return;
+        }
+        let mut in_i = li.meeting(bj) & Self::slots(self.filled(i));
+        while in_i != 0 {
+            let s = in_i.trailing_zeros() as usize;
+            in_i &= in_i - 1;
+            let v = [0, 1, 2].map(|k| li.v[k][s]);
+            let mask = lj.candidates(&li.bounds(s), v, li.group[s]) & in_j;
+            self.visit(li, s, lj, mask, test, found);
         }
     }
 

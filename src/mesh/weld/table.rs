@@ -44,7 +44,7 @@ impl Table {
         #[cfg(target_arch = "x86_64")]
         {
             let slot = &self.slots[hash as usize & self.mask()];
-            // SSE is part of x86-64: `_mm_prefetch` is always available.
+            // SAFETY: SSE is part of x86-64, so `_mm_prefetch` is available.
             // It only hints the cache and never faults, whatever the
             // address; this one is a live element of `slots`.
             unsafe {
