@@ -225,6 +225,15 @@ fn common_ints<const N: usize>(xs: [f64; N]) -> Option<([i64; N], i32)> {
     Some((layout.ints_i64()?, layout.lowest))
 }
 
+/// Whether an edge with an end at `p` may take the per-edge integer
+/// crossing: `p`'s own coordinates span at most 40 binary places (the
+/// six coordinates of an edge span at least as many as three of them, and
+/// [`common_ints`] takes at most 40). `false` says the edge does not fit;
+/// `true` says nothing.
+pub(crate) fn may_fit_edge_grid(p: [f64; 3]) -> bool {
+    Layout::of(p).is_some_and(|l| l.places() <= 40)
+}
+
 /// The crossing with big integers: the six coordinates on their common
 /// binary grid `2^e0`, the level `p / q` in its units, then
 /// `x = 2^e0 X / (q dz)` with `X = ax q dz + (bx - ax)(p - q az)`
@@ -531,6 +540,18 @@ impl LoopPoint {
         if let Some(h) = crossing_i128(a, b, level) {
             return (LoopPoint(Repr::Scaled(h)), NumberPath::Edge);
         }
+        Self::on_edge_off_edge_grid(a, b, level, approx)
+    }
+
+    /// [`LoopPoint::on_edge_with`] past its first path, for an edge known
+    /// not to fit it (an end fails [`may_fit_edge_grid`]): the same point
+    /// and path, without reading the edge's binary layout first.
+    pub(crate) fn on_edge_off_edge_grid(
+        a: [f64; 3],
+        b: [f64; 3],
+        level: &Arc<Level>,
+        approx: Option<&LevelApprox>,
+    ) -> (Self, NumberPath) {
         let lazy = |nearest| {
             LoopPoint(Repr::Lazy(Lazy {
                 nearest,
@@ -809,6 +830,17 @@ mod tests {
         #[test]
         fn common_ints_equal_the_reference(xs in six_doubles()) {
             proptest::prop_assert_eq!(common_ints(xs).map(|(k, e)| (k.map(i128::from), e)), common_ints_reference(xs));
+        }
+
+        /// An edge with an end that fails `may_fit_edge_grid` has no
+        /// common 40-place grid (its first path would fail), on
+        /// coordinates across the whole `f64` range.
+        #[test]
+        fn an_end_off_the_edge_grid_means_no_common_grid(xs in six_doubles()) {
+            let (a, b) = ([xs[0], xs[1], xs[2]], [xs[3], xs[4], xs[5]]);
+            if !(may_fit_edge_grid(a) && may_fit_edge_grid(b)) {
+                proptest::prop_assert!(common_ints(xs).is_none());
+            }
         }
     }
 

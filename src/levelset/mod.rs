@@ -16,7 +16,7 @@ use crate::classify::{
     Facing, RidgeKind, Side, Signs,
 };
 use crate::exact::area::{rounded_area, signed_area, total_signed_area};
-use crate::exact::crossing::Crossings;
+use crate::exact::crossing::{Crossings, EdgeGridEnds};
 use crate::exact::filter::{signed_area_filtered, FilteredPoint};
 use crate::exact::frame::Frame;
 use crate::exact::grid::MeshGrid;
@@ -210,6 +210,9 @@ pub struct Slicer<'m> {
     unit: Rat,
     /// The positions on one binary grid, when they fit (fast crossings).
     grid: Option<MeshGrid>,
+    /// Off that grid: which vertices may end an edge of the per-edge
+    /// integer crossing (`None`: all may).
+    ends: Option<EdgeGridEnds>,
     /// The power of two the filters scale by (the identity unless the
     /// mesh lies at the ends of the double range).
     frame: Frame,
@@ -228,14 +231,21 @@ impl<'m> Slicer<'m> {
     pub fn with_unit(mesh: &'m Mesh, unit: Rat) -> Result<Self, SliceError> {
         // The grid (a pass over the coordinates) beside validation.
         let parallel = mesh.num_faces() >= crate::par::MIN_LEN;
-        let (accepted, grid) =
-            crate::par::join(parallel, || accept(mesh), || MeshGrid::new(&mesh.positions));
+        let (accepted, (grid, ends)) = crate::par::join(
+            parallel,
+            || accept(mesh),
+            || {
+                let p = &mesh.positions;
+                (MeshGrid::new(p), EdgeGridEnds::new(p))
+            },
+        );
         let topo = accepted.map_err(SliceError::InvalidMesh)?;
         Ok(Slicer {
             mesh,
             topo,
             unit,
             grid,
+            ends,
             frame: Frame::for_points(mesh.positions.iter().copied()),
         })
     }
@@ -348,7 +358,12 @@ impl<'a> LevelBuilder<'a> {
         LevelBuilder {
             mesh: slicer.mesh,
             topo: &slicer.topo,
-            points: Crossings::new(slicer.grid.as_ref(), level, slicer.frame),
+            points: Crossings::new(
+                slicer.grid.as_ref(),
+                slicer.ends.as_ref(),
+                level,
+                slicer.frame,
+            ),
             level,
             signs: Signs::new(slicer.mesh, level),
             active,
