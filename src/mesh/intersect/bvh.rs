@@ -236,21 +236,22 @@ impl Leaf {
         }
     }
 
+    /// Whether the box of slot `t` meets `b` (six comparisons, no branch).
+    #[inline(always)]
+    fn slot_meets(&self, t: usize, b: &Bounds) -> bool {
+        (b.lo[0] <= self.hi[0][t])
+            & (self.lo[0][t] <= b.hi[0])
+            & (b.lo[1] <= self.hi[1][t])
+            & (self.lo[1][t] <= b.hi[1])
+            & (b.lo[2] <= self.hi[2][t])
+            & (self.lo[2][t] <= b.hi[2])
+    }
+
     /// Bit `t` set for each slot `t` whose box meets `b` (vector
     /// comparisons, as in [`Leaf::candidates`]).
     #[inline(always)]
     fn meeting(&self, b: &Bounds) -> u32 {
-        let mut mask = 0u32;
-        for t in 0..LEAF {
-            let meets = (b.lo[0] <= self.hi[0][t])
-                & (self.lo[0][t] <= b.hi[0])
-                & (b.lo[1] <= self.hi[1][t])
-                & (self.lo[1][t] <= b.hi[1])
-                & (b.lo[2] <= self.hi[2][t])
-                & (self.lo[2][t] <= b.hi[2]);
-            mask |= u32::from(meets) << t;
-        }
-        mask
+        (0..LEAF).fold(0, |mask, t| mask | u32::from(self.slot_meets(t, b)) << t)
     }
 
     /// Bit `t` set for each slot `t` whose box meets `b`, that shares no
@@ -261,12 +262,7 @@ impl Leaf {
     fn candidates(&self, b: &Bounds, v: [u32; 3], group: u32) -> u32 {
         let mut mask = 0u32;
         for t in 0..LEAF {
-            let meets = (b.lo[0] <= self.hi[0][t])
-                & (self.lo[0][t] <= b.hi[0])
-                & (b.lo[1] <= self.hi[1][t])
-                & (self.lo[1][t] <= b.hi[1])
-                & (b.lo[2] <= self.hi[2][t])
-                & (self.lo[2][t] <= b.hi[2]);
+            let meets = self.slot_meets(t, b);
             let shares = (0..3).fold(false, |acc, k| {
                 acc | (self.v[k][t] == v[0]) | (self.v[k][t] == v[1]) | (self.v[k][t] == v[2])
             });
