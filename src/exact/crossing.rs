@@ -523,6 +523,7 @@ impl<'a> Crossings<'a> {
 /// new run side by side four times). Built once per mesh, when some vertex
 /// does not fit; a `false` decides nothing but which path is tried first,
 /// never a value.
+///
 /// One bit per vertex (a bit set: an eighth of a byte table, so that it
 /// stays in cache beside the positions).
 #[derive(Clone, Debug)]
@@ -540,16 +541,8 @@ impl EdgeGridEnds {
                     .fold(0, |w, (i, &p)| w | u64::from(may_fit_edge_grid(p)) << i)
             })
             .collect();
-        let all = |k: usize| {
-            let n = positions.len() - 64 * k;
-            if n >= 64 {
-                u64::MAX
-            } else {
-                (1 << n) - 1
-            }
-        };
-        let every = bits.iter().enumerate().all(|(k, &w)| w == all(k));
-        (!every).then_some(EdgeGridEnds(bits))
+        let fitting: usize = bits.iter().map(|w| w.count_ones() as usize).sum();
+        (fitting < positions.len()).then_some(EdgeGridEnds(bits))
     }
 
     /// Whether edge `(a, b)` may take the per-edge integer crossing.
