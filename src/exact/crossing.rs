@@ -71,16 +71,19 @@ fn lanes<T>(f: impl FnMut(usize) -> T) -> [T; 2] {
     std::array::from_fn(f)
 }
 
+/// Whether `v` is zero or of magnitude in `[lo, hi]`: the range in which
+/// the error analysis of [`coordinates`] holds (nothing overflows or
+/// underflows). Not a tolerance: a value outside it only sends the
+/// crossing to the exact path.
+#[inline(always)]
 fn in_range(v: f64, lo: f64, hi: f64) -> bool {
-    v == 0.0 || (lo..=hi).contains(&v.abs())
+    (v == 0.0) | ((lo <= v.abs()) & (v.abs() <= hi))
 }
 
-/// Whether every value is [`in_range`], tested without a branch per value.
+/// Whether every value is [`in_range`], without a branch per value.
 #[inline(always)]
 fn all_in_range<const N: usize>(vs: [f64; N], lo: f64, hi: f64) -> bool {
-    vs.iter().fold(true, |all, &v| {
-        all & ((v == 0.0) | ((lo <= v.abs()) & (v.abs() <= hi)))
-    })
+    vs.iter().fold(true, |all, &v| all & in_range(v, lo, hi))
 }
 
 /// A level in a [`Frame`] as a double-double: `|c 2^s - (hi + lo)| <= err`.
