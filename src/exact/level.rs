@@ -35,19 +35,35 @@ pub(crate) fn shl(x: i128, k: u32) -> Option<i128> {
     (y >> k == x).then_some(y)
 }
 
-/// `sign(f - p / q)` for a finite double `f` and `q > 0`, decided in
-/// `i128` when the products fit (else `None`).
-fn cmp_double(f: f64, p: i128, q: i128) -> Option<std::cmp::Ordering> {
+/// `p 2^k - m q` for `m 2^-k` (`k > 0`) the nearest double of `p / q`
+/// (`q > 0`), exact.
+///
+/// Its magnitude is `|p / q - m 2^-k| q 2^k`. The nearest double is within
+/// half the spacing `2^u` of the doubles around it (`u <= -k`: `m` need not
+/// be the full significand), so the magnitude is at most `q / 2 < 2^126`.
+/// The products are therefore taken modulo `2^128` (wrapping): the residue
+/// in `(-2^127, 2^127)` is the value itself, however large `p 2^k` and
+/// `m q` are. No division, no big integers.
+#[inline]
+pub(crate) fn nearest_gap(p: i128, q: i128, m: i64, k: u32) -> i128 {
+    // p 2^k modulo 2^128 (zero once k >= 128).
+    let shifted = if k >= 128 { 0 } else { p.wrapping_shl(k) };
+    shifted.wrapping_sub(i128::from(m).wrapping_mul(q))
+}
+
+/// `sign(f - p / q)` for `f` the nearest double of `p / q` (finite,
+/// `q > 0`), decided in `i128`: by [`nearest_gap`] when `f`'s last bit is
+/// a fraction, else when the products fit (else `None`).
+fn cmp_nearest(f: f64, p: i128, q: i128) -> Option<std::cmp::Ordering> {
     let Some((m, e)) = decompose(f) else {
         // f is zero: the sign of -p.
         return Some(0.cmp(&p));
     };
-    let mq = i128::from(m).checked_mul(q)?;
     // f = m 2^e; f - p/q has the sign of m q 2^e - p.
     Some(if e >= 0 {
-        shl(mq, e as u32)?.cmp(&p)
+        shl(i128::from(m).checked_mul(q)?, e as u32)?.cmp(&p)
     } else {
-        mq.cmp(&shl(p, e.unsigned_abs())?)
+        0.cmp(&nearest_gap(p, q, m, e.unsigned_abs()))
     })
 }
 
@@ -64,7 +80,7 @@ impl Level {
             }
         } else {
             let order = wide
-                .and_then(|(p, q)| cmp_double(f, p, q))
+                .and_then(|(p, q)| cmp_nearest(f, p, q))
                 .unwrap_or_else(|| rat_from_f64(f).cmp(&value));
             match order {
                 std::cmp::Ordering::Equal => (f, f),
@@ -167,16 +183,29 @@ mod tests {
     }
 
     proptest::proptest! {
-        /// The integer comparison of a double with `p / q` agrees with
-        /// the rational one.
+        /// The comparison of `p / q` with its nearest double, and the
+        /// gap between them, agree with the rational ones; the gap needs
+        /// no fallback (`p`, `q` need not be in lowest terms).
         #[test]
-        fn double_comparison_is_exact(bits in proptest::num::u64::ANY, p in proptest::num::i128::ANY, pb in 1u32..128, q in 1i128..i128::MAX, qb in 1u32..127) {
-            let f = f64::from_bits(bits);
-            proptest::prop_assume!(f.is_finite());
+        fn nearest_comparison_is_exact(p in proptest::num::i128::ANY, pb in 1u32..128, q in 1i128..i128::MAX, qb in 1u32..127) {
             let (p, q) = (p >> (128 - pb), (q >> (127 - qb)).max(1));
-            if let Some(o) = cmp_double(f, p, q) {
-                let r = Rat::new(p.into(), q.into());
-                proptest::prop_assert_eq!(o, rat_from_f64(f).cmp(&r));
+            let r = Rat::new(p.into(), q.into());
+            let f = rat_to_f64(&r);
+            proptest::prop_assume!(f.is_finite());
+            let want = rat_from_f64(f).cmp(&r);
+            match decompose(f) {
+                Some((m, e)) if e < 0 => {
+                    let k = e.unsigned_abs();
+                    let gap = num_bigint::BigInt::from(p) * num_bigint::BigInt::from(2).pow(k)
+                        - num_bigint::BigInt::from(m) * num_bigint::BigInt::from(q);
+                    proptest::prop_assert_eq!(num_bigint::BigInt::from(nearest_gap(p, q, m, k)), gap);
+                    proptest::prop_assert_eq!(cmp_nearest(f, p, q), Some(want));
+                }
+                _ => {
+                    if let Some(o) = cmp_nearest(f, p, q) {
+                        proptest::prop_assert_eq!(o, want);
+                    }
+                }
             }
         }
     }
