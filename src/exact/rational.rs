@@ -108,6 +108,17 @@ fn parse_decimal_checked(t: &str) -> Result<Rat, RationalParseError> {
 /// The canonical text of an exact rational: `"p"` or `"p/q"` in lowest terms
 /// with `q > 1` (the interchange format's `rational`).
 pub fn rat_to_string(r: &Rat) -> String {
+    // Parts within i128 (every level of a usual plan) print as the same
+    // decimal digits, without big-integer division.
+    match (r.numer().to_i128(), r.denom().to_i128()) {
+        (Some(p), Some(1)) => p.to_string(),
+        (Some(p), Some(q)) => format!("{p}/{q}"),
+        _ => big_rat_to_string(r),
+    }
+}
+
+/// [`rat_to_string`] through big-integer formatting, for any size.
+fn big_rat_to_string(r: &Rat) -> String {
     if r.denom().is_one() {
         r.numer().to_string()
     } else {
@@ -310,6 +321,16 @@ mod tests {
         assert_eq!(rat_to_f64(&r(1, 3)), 1.0 / 3.0);
     }
 
+    #[test]
+    fn text_at_the_ends_of_i128() {
+        for (n, d) in [(i128::MIN, 1), (i128::MAX, 1), (-1, i128::MAX), (i128::MIN + 1, 7)] {
+            let r = Rat::new(n.into(), d.into());
+            assert_eq!(rat_to_string(&r), big_rat_to_string(&r));
+        }
+        assert_eq!(rat_to_string(&r(-3, 6)), "-1/2");
+        assert_eq!(rat_to_string(&r(-4, 2)), "-2");
+    }
+
     proptest::proptest! {
         /// The one-division fast path rounds like num-rational's general
         /// conversion (numerators and denominators around 2^53).
@@ -331,6 +352,19 @@ mod tests {
             let d = (d >> (128 - db)).max(1);
             let reference = ratio_to_rat(n, d, e).to_f64().unwrap();
             proptest::prop_assert_eq!(ratio_to_f64(n, d, e).to_bits(), reference.to_bits());
+        }
+
+        /// The text of a rational is the big-integer text, whether its
+        /// parts fit `i128` or not (widths up to 140 bits, both signs).
+        #[test]
+        fn text_is_the_big_integer_text(
+            n in proptest::num::i128::ANY, nb in 1u32..129, nshift in 0u32..13,
+            d in proptest::num::u128::ANY, db in 1u32..129, dshift in 0u32..13
+        ) {
+            let n = BigInt::from(n >> (128 - nb)) << nshift;
+            let d = (BigInt::from(d >> (128 - db)) << dshift).max(BigInt::one());
+            let r = Rat::new(n, d);
+            proptest::prop_assert_eq!(rat_to_string(&r), big_rat_to_string(&r));
         }
 
         /// Rationals whose parts fit 128 bits (the integer path of
