@@ -483,7 +483,7 @@ impl<'a> Crossings<'a> {
     pub fn new(
         grid: Option<&'a MeshGrid>,
         ends: Option<&'a EdgeGridEnds>,
-        level: &Level,
+        level: &Arc<Level>,
         frame: Frame,
     ) -> Self {
         let grid = grid.and_then(|g| Some((g, g.level(level)?)));
@@ -496,7 +496,7 @@ impl<'a> Crossings<'a> {
                 None
             },
             frame,
-            level: Arc::new(level.clone()),
+            level: Arc::clone(level),
             taken: Default::default(),
         }
     }
@@ -897,7 +897,7 @@ mod tests {
     #[test]
     fn paths_are_counted() {
         reset_path_counts();
-        let level = Level::new(crate::exact::parse_rational("0.3").unwrap());
+        let level = Arc::new(Level::new(crate::exact::parse_rational("0.3").unwrap()));
         {
             let points = Crossings::new(None, None, &level, Frame::IDENTITY);
             // Spans 80 bits: not on the edge's i128 grid.

@@ -26,7 +26,7 @@ use crate::par;
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::sync::mpsc::{sync_channel, SyncSender};
-use std::sync::{Condvar, Mutex};
+use std::sync::{Arc, Condvar, Mutex};
 
 /// Results each worker may compute ahead of the writer.
 const AHEAD: usize = 8;
@@ -70,7 +70,8 @@ struct Entry {
 /// at worst, no sort. Faces above the last level, or strictly between two
 /// levels, touch no level and are left out at once.
 struct Heights {
-    grid: Vec<Level>,
+    /// Shared with each level's points (no copy per level).
+    grid: Vec<Arc<Level>>,
     /// The faces filed under level `l`, ascending by face:
     /// `entries[starts[l]..starts[l + 1]]`.
     entries: Vec<Entry>,
@@ -87,12 +88,12 @@ impl Heights {
     /// same result either way.
     fn new(mesh: &Mesh, unit: &Rat, levels: &[Rat], parallel: bool) -> Self {
         let one = num_traits::One::is_one(unit);
-        let grid: Vec<Level> = levels
+        let grid: Vec<Arc<Level>> = levels
             .iter()
-            .map(|c| Level::new(if one { c.clone() } else { c / unit }))
+            .map(|c| Arc::new(Level::new(if one { c.clone() } else { c / unit })))
             .collect();
-        let brackets: Vec<Bracket> = grid.iter().map(Level::bracket).collect();
-        let approx: Vec<f64> = grid.iter().map(Level::approx).collect();
+        let brackets: Vec<Bracket> = grid.iter().map(|l| l.bracket()).collect();
+        let approx: Vec<f64> = grid.iter().map(|l| l.approx()).collect();
         // The plan may be made before validation: a face with a vertex out
         // of range (a mesh validation refuses) is not filed.
         let heights = |f: usize| -> Option<(f64, f64)> {

@@ -276,8 +276,8 @@ impl<'m> Slicer<'m> {
     }
 
     /// The level `c` in the stored (grid) units.
-    pub(crate) fn grid_level(&self, c: &Rat) -> Level {
-        Level::new(c / &self.unit)
+    pub(crate) fn grid_level(&self, c: &Rat) -> Arc<Level> {
+        Arc::new(Level::new(c / &self.unit))
     }
 
     /// The level set at `c` (`level` is `c` in grid units) from the faces
@@ -287,11 +287,11 @@ impl<'m> Slicer<'m> {
     pub(crate) fn slice_active(
         &self,
         c: &Rat,
-        grid_level: &Level,
+        grid_level: &Arc<Level>,
         active: &[FaceId],
     ) -> Result<LevelSet, SliceError> {
         let mut ls = LevelBuilder::new(self, grid_level, active)
-            .build()
+            .build(c)
             .map_err(|e| match e {
                 // Name the level the caller asked for; the numbers in `what`
                 // are the grid's.
@@ -332,7 +332,6 @@ impl<'m> Slicer<'m> {
                 e.point = e.point.scaled(u);
             }
         }
-        ls.level = c.clone();
         Ok(ls)
     }
 }
@@ -354,7 +353,7 @@ struct LevelBuilder<'a> {
 }
 
 impl<'a> LevelBuilder<'a> {
-    fn new(slicer: &'a Slicer<'a>, level: &'a Level, active: &'a [FaceId]) -> Self {
+    fn new(slicer: &'a Slicer<'a>, level: &'a Arc<Level>, active: &'a [FaceId]) -> Self {
         LevelBuilder {
             mesh: slicer.mesh,
             topo: &slicer.topo,
@@ -393,7 +392,9 @@ impl<'a> LevelBuilder<'a> {
         }
     }
 
-    fn build(self) -> Result<LevelSet, SliceError> {
+    /// The level set; `c` is the level in the caller's units (the
+    /// builder's level is in grid units).
+    fn build(self, c: &Rat) -> Result<LevelSet, SliceError> {
         let mesh = self.mesh;
         let topo = self.topo;
         let signs = &self.signs;
@@ -533,7 +534,7 @@ impl<'a> LevelBuilder<'a> {
         };
 
         let ls = LevelSet {
-            level: self.level.value().clone(),
+            level: c.clone(),
             contours,
             regions: face_regions_out,
             ridges,
