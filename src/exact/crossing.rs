@@ -161,7 +161,7 @@ fn residual(p: i128, q: i128, hi: f64) -> Option<f64> {
         let mq = i128::from(m).checked_mul(q)?;
         ratio_to_f64(p.checked_sub(shl(mq, e as u32)?)?, q_u, 0)
     } else {
-        ratio_to_f64(nearest_gap(p, q, m, e.unsigned_abs()), q_u, e)
+        ratio_to_f64(nearest_gap(p, q, m, e.unsigned_abs())?, q_u, e)
     })
 }
 

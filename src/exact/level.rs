@@ -43,12 +43,15 @@ pub(crate) fn shl(x: i128, k: u32) -> Option<i128> {
 /// be the full significand), so the magnitude is at most `q / 2 < 2^126`.
 /// The products are therefore taken modulo `2^128` (wrapping): the residue
 /// in `(-2^127, 2^127)` is the value itself, however large `p 2^k` and
-/// `m q` are. No division, no big integers.
+/// `m q` are. No division, no big integers. A residue beyond `q / 2`
+/// cannot be the gap of the nearest double: `None` then (the caller's
+/// exact path), a guard should the precondition ever fail.
 #[inline]
-pub(crate) fn nearest_gap(p: i128, q: i128, m: i64, k: u32) -> i128 {
+pub(crate) fn nearest_gap(p: i128, q: i128, m: i64, k: u32) -> Option<i128> {
     // p 2^k modulo 2^128 (zero once k >= 128).
     let shifted = if k >= 128 { 0 } else { p.wrapping_shl(k) };
-    shifted.wrapping_sub(i128::from(m).wrapping_mul(q))
+    let gap = shifted.wrapping_sub(i128::from(m).wrapping_mul(q));
+    (gap.unsigned_abs() <= q.unsigned_abs() / 2).then_some(gap)
 }
 
 /// `sign(f - p / q)` for `f` the nearest double of `p / q` (finite,
@@ -63,7 +66,7 @@ fn cmp_nearest(f: f64, p: i128, q: i128) -> Option<std::cmp::Ordering> {
     Some(if e >= 0 {
         shl(i128::from(m).checked_mul(q)?, e as u32)?.cmp(&p)
     } else {
-        0.cmp(&nearest_gap(p, q, m, e.unsigned_abs()))
+        0.cmp(&nearest_gap(p, q, m, e.unsigned_abs())?)
     })
 }
 
@@ -198,8 +201,18 @@ mod tests {
                     let k = e.unsigned_abs();
                     let gap = num_bigint::BigInt::from(p) * num_bigint::BigInt::from(2).pow(k)
                         - num_bigint::BigInt::from(m) * num_bigint::BigInt::from(q);
-                    proptest::prop_assert_eq!(num_bigint::BigInt::from(nearest_gap(p, q, m, k)), gap);
+                    proptest::prop_assert_eq!(nearest_gap(p, q, m, k).map(num_bigint::BigInt::from), Some(gap));
                     proptest::prop_assert_eq!(cmp_nearest(f, p, q), Some(want));
+                    // A neighbour of the nearest double, not the nearest:
+                    // its gap when within q / 2, else refused. Below 3q/2,
+                    // it cannot wrap for q < 2^125.
+                    if let Some((m, e)) = decompose(f.next_up()).filter(|&(_, e)| e < 0 && q < 1 << 125) {
+                        let k = e.unsigned_abs();
+                        let gap = num_bigint::BigInt::from(p) * num_bigint::BigInt::from(2).pow(k)
+                            - num_bigint::BigInt::from(m) * num_bigint::BigInt::from(q);
+                        let within = gap.magnitude() <= &num_bigint::BigUint::from(q.unsigned_abs() / 2);
+                        proptest::prop_assert_eq!(nearest_gap(p, q, m, k).map(num_bigint::BigInt::from), within.then_some(gap));
+                    }
                 }
                 _ => {
                     if let Some(o) = cmp_nearest(f, p, q) {

@@ -323,7 +323,12 @@ mod tests {
 
     #[test]
     fn text_at_the_ends_of_i128() {
-        for (n, d) in [(i128::MIN, 1), (i128::MAX, 1), (-1, i128::MAX), (i128::MIN + 1, 7)] {
+        for (n, d) in [
+            (i128::MIN, 1),
+            (i128::MAX, 1),
+            (-1, i128::MAX),
+            (i128::MIN + 1, 7),
+        ] {
             let r = Rat::new(n.into(), d.into());
             assert_eq!(rat_to_string(&r), big_rat_to_string(&r));
         }
