@@ -100,7 +100,19 @@ pub fn chain_loops(topo: &Topology, segments: &[Segment]) -> Result<Vec<Vec<usiz
         if seen[start] {
             continue;
         }
-        let mut lp = Vec::new();
+        // Walked twice, to count and then to list: each loop is allocated
+        // once, at its length, instead of growing step by step. (The count
+        // is only a capacity: bounded, it cannot loop.)
+        let mut len = 1;
+        let mut i = start;
+        while let Some(&j) = next.get(i) {
+            if j == start || len >= segments.len() {
+                break;
+            }
+            len += 1;
+            i = j;
+        }
+        let mut lp = Vec::with_capacity(len);
         let mut i = start;
         while !seen[i] {
             seen[i] = true;

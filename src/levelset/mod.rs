@@ -408,8 +408,10 @@ impl<'a> LevelBuilder<'a> {
         let mut in_plane: Vec<FaceId> = Vec::new();
         let mut candidates: Vec<EdgeId> = Vec::new();
         let mut on_plane: Vec<VertexId> = Vec::new();
-        let mut segments: Vec<Segment> = Vec::new();
-        let mut carriers: Vec<Carrier> = Vec::new();
+        // A crossed face has one segment: room for all, so no level
+        // grows these step by step.
+        let mut segments: Vec<Segment> = Vec::with_capacity(self.active.len());
+        let mut carriers: Vec<Carrier> = Vec::with_capacity(self.active.len());
         for &f in self.active {
             let tri = mesh.faces[f.idx()];
             let s = tri.map(|v| signs.of(v));
