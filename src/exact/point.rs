@@ -392,6 +392,29 @@ impl Scaled {
         }
     }
 
+    /// The point times `s` (exact), still as integers when the products
+    /// fit: `s = a 2^t / b` (`a`, `b` odd) multiplies `x` and `y` by `a`,
+    /// `w` by `b`, and adds `t` to `e`. `None` when they do not fit (or
+    /// `s` is zero).
+    fn times(self, s: &Rat) -> Option<Scaled> {
+        let (a, b) = (s.numer().to_i128()?, s.denom().to_i128()?);
+        if a == 0 {
+            return None;
+        }
+        let (ta, tb) = (a.trailing_zeros(), b.trailing_zeros());
+        let (a, b) = (a >> ta, b >> tb);
+        let w = self.w.checked_mul(b)?;
+        (w < 1 << 126).then_some(Scaled {
+            x: self.x.checked_mul(a)?,
+            y: self.y.checked_mul(a)?,
+            w,
+            e: self
+                .e
+                .checked_add(i32::try_from(ta).ok()?)?
+                .checked_sub(i32::try_from(tb).ok()?)?,
+        })
+    }
+
     fn to_f64(self) -> [f64; 2] {
         let w = self.w as u128;
         [
@@ -642,9 +665,17 @@ impl LoopPoint {
         }
     }
 
-    /// The point with both coordinates multiplied by `s` (exact).
+    /// The point with both coordinates multiplied by `s` (exact): a point
+    /// held as integers stays so when the products fit `i128` (a snapped
+    /// mesh's points, scaled back by the grid unit: no big rationals).
     pub fn scaled(&self, s: &Rat) -> LoopPoint {
-        self.exact().scaled(s).into()
+        match &self.0 {
+            Repr::Scaled(h) => match h.times(s) {
+                Some(h) => LoopPoint(Repr::Scaled(h)),
+                None => self.exact().scaled(s).into(),
+            },
+            _ => self.exact().scaled(s).into(),
+        }
     }
 }
 
@@ -708,6 +739,36 @@ mod tests {
             let lp = LoopPoint::on_edge(a, b, &level);
             proptest::prop_assert_eq!(lp.exact().into_owned(), reference.clone());
             proptest::prop_assert_eq!(lp.to_f64(), reference.to_f64());
+        }
+    }
+
+    proptest::proptest! {
+        /// A point held as integers, scaled by a rational (a grid unit
+        /// such as `1/10^9`, a power of two, or parts too wide for
+        /// `i128`), is the exact product, and stays integers when the
+        /// products are small.
+        #[test]
+        fn scaled_integers_are_the_exact_product(
+            x in proptest::num::i128::ANY, xb in 0u32..100, y in proptest::num::i128::ANY, yb in 0u32..100,
+            w in 1u128..(1 << 100), e in -200i32..200,
+            a in 1u64..u64::MAX, ab in 0u32..64, b in 1u64..u64::MAX, bb in 0u32..64,
+            wide in 0u32..80, negative in proptest::bool::ANY, unit_power in 0u32..13
+        ) {
+            let (x, y) = (x >> (127 - xb), y >> (127 - yb));
+            let p = LoopPoint::from_integers(x, y, w as i128, e).unwrap();
+            let (a, b) = ((a >> ab).max(1), (b >> bb).max(1));
+            let s = if unit_power > 0 {
+                Rat::new(1.into(), num_bigint::BigInt::from(10u64).pow(unit_power))
+            } else {
+                let n = num_bigint::BigInt::from(a) << wide;
+                Rat::new(if negative { -n } else { n }, b.into())
+            };
+            let got = p.scaled(&s);
+            proptest::prop_assert_eq!(got.exact().into_owned(), p.exact().scaled(&s));
+            let small = |v: i128| v.unsigned_abs() < 1 << 60;
+            if small(x) && small(y) && w < 1 << 60 && a < 1 << 60 && b < 1 << 60 && wide == 0 {
+                proptest::prop_assert!(got.as_integers().is_some());
+            }
         }
     }
 
