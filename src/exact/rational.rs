@@ -126,6 +126,27 @@ fn big_rat_to_string(r: &Rat) -> String {
     }
 }
 
+/// `c / s` (`s != 0`), exact: in `i128` with one gcd when the cross
+/// products fit (a level put in a snapped mesh's grid units, once per
+/// level), else in big rationals.
+pub fn rat_div(c: &Rat, s: &Rat) -> Rat {
+    let parts = |r: &Rat| r.numer().to_i128().zip(r.denom().to_i128());
+    let small = || {
+        let ((p, q), (a, b)) = (parts(c)?, parts(s)?);
+        // c / s = (p b) / (q a), with q, b > 0.
+        let (n, d) = (p.checked_mul(b)?, q.checked_mul(a)?);
+        let (n, d) = if d < 0 {
+            (n.checked_neg()?, d.checked_neg()?)
+        } else {
+            (n, d)
+        };
+        (d > 0).then_some(())?;
+        let g = super::point::gcd_u128(n.unsigned_abs(), d.unsigned_abs()) as i128;
+        Some(Rat::new_raw((n / g).into(), (d / g).into()))
+    };
+    small().unwrap_or_else(|| c / s)
+}
+
 /// The exact value of a finite `f64` (every finite float is a dyadic rational).
 ///
 /// Non-finite inputs are rejected by validation before any exact arithmetic;
@@ -370,6 +391,23 @@ mod tests {
             let d = (BigInt::from(d >> (128 - db)) << dshift).max(BigInt::one());
             let r = Rat::new(n, d);
             proptest::prop_assert_eq!(rat_to_string(&r), big_rat_to_string(&r));
+        }
+
+        /// The quotient of two rationals equals num-rational's, whether
+        /// the parts fit `i128` or not (widths up to 140 bits, both signs).
+        #[test]
+        fn quotients_are_exact(
+            p in proptest::num::i128::ANY, pb in 1u32..129, q in proptest::num::u128::ANY, qb in 1u32..129,
+            a in proptest::num::i128::ANY, ab in 1u32..129, b in proptest::num::u128::ANY, bb in 1u32..129,
+            shift in 0u32..13
+        ) {
+            let c = Rat::new(BigInt::from(p >> (128 - pb)), BigInt::from(q >> (128 - qb)).max(BigInt::one()));
+            let a = BigInt::from(a >> (128 - ab)) << shift;
+            proptest::prop_assume!(!a.is_zero());
+            let s = Rat::new(a, BigInt::from(b >> (128 - bb)).max(BigInt::one()));
+            // In lowest terms, the sign on the numerator: the same parts.
+            let (got, want) = (rat_div(&c, &s), &c / &s);
+            proptest::prop_assert_eq!((got.numer(), got.denom()), (want.numer(), want.denom()));
         }
 
         /// Rationals whose parts fit 128 bits (the integer path of

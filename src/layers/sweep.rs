@@ -17,7 +17,7 @@
 //! the same sorted active faces, so the output does not depend on `T`.
 
 use crate::exact::level::Bracket;
-use crate::exact::rational::Rat;
+use crate::exact::rational::{rat_div, Rat};
 use crate::exact::{Level, Sign};
 use crate::ids::FaceId;
 use crate::levelset::{LevelSet, SliceError, Slicer};
@@ -90,7 +90,7 @@ impl Heights {
         let one = num_traits::One::is_one(unit);
         let grid: Vec<Arc<Level>> = levels
             .iter()
-            .map(|c| Arc::new(Level::new(if one { c.clone() } else { c / unit })))
+            .map(|c| Arc::new(Level::new(if one { c.clone() } else { rat_div(c, unit) })))
             .collect();
         let brackets: Vec<Bracket> = grid.iter().map(|l| l.bracket()).collect();
         let approx: Vec<f64> = grid.iter().map(|l| l.approx()).collect();

@@ -21,7 +21,7 @@ use crate::exact::filter::{signed_area_filtered, FilteredPoint};
 use crate::exact::frame::Frame;
 use crate::exact::grid::MeshGrid;
 use crate::exact::point::LoopPoint;
-use crate::exact::rational::{rat_to_f64, Rat};
+use crate::exact::rational::{rat_div, rat_to_f64, Rat};
 use crate::exact::{Level, Point2, Sign};
 use crate::ids::{EdgeId, FaceId, VertexId};
 use crate::mesh::topology::Topology;
@@ -277,7 +277,7 @@ impl<'m> Slicer<'m> {
 
     /// The level `c` in the stored (grid) units.
     pub(crate) fn grid_level(&self, c: &Rat) -> Arc<Level> {
-        Arc::new(Level::new(c / &self.unit))
+        Arc::new(Level::new(rat_div(c, &self.unit)))
     }
 
     /// The level set at `c` (`level` is `c` in grid units) from the faces
