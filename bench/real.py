@@ -2,7 +2,7 @@
 (run by bench/compare with the venv's Python, or by hand):
 
     python real.py --wmslice PATH [--wmslice-base PATH] [--layers 2000] \
-        [--runs 3] [--out DIR] [--no-pin] MESH...
+        [--runs 3] [--out DIR] [--no-pin] [--snap S] MESH...
 
 For each mesh (STL, OBJ, OFF, PLY): the layer height H is the height span
 over LAYERS rounded to four significant digits (a decimal), the planes
@@ -11,7 +11,9 @@ to the highest vertex), given to manifold3d as their nearest doubles.
 
 - wmslice: wall time of `wmslice slice MESH --layer-height H --threads 1
   --quiet --format json -o OUT --verbose` (read, weld, validate, slice,
-  write the JSON, fsync); the number paths it reports are kept.
+  write the JSON, fsync); the number paths it reports are kept. With
+  `--snap S`, wmslice snaps (real meshes' usual mode) and slices its
+  own plan on the snapped mesh; manifold3d keeps the unsnapped plan.
 - manifold3d: `Manifold(Mesh(...))` plus `slice(z).to_polygons()` per
   level, timed inside the process (construction plus slicing; reading
   the file with trimesh is not counted).
@@ -119,6 +121,8 @@ def main():
     ap.add_argument("--out", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "out"))
     ap.add_argument("--no-pin", dest="pin", action="store_false",
                     help="do not pin each process to one CPU")
+    ap.add_argument("--snap", default="",
+                    help="run wmslice with --snap S (manifold3d's planes unchanged)")
     ap.add_argument("meshes", nargs="+")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
@@ -149,6 +153,8 @@ def main():
                    "--format", "json", "-o", out]
             if verbose[binary]:
                 cmd.append("--verbose")
+            if args.snap:
+                cmd += ["--snap", args.snap]
             times = []
             err = ""
             try:
