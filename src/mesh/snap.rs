@@ -6,7 +6,8 @@
 //! section 2): each coordinate moves to the nearest multiple of `q` (ties
 //! to even), by at most `q / 2`.
 
-use crate::exact::rational::{rat_from_f64, rat_to_string, Rat};
+use crate::exact::level::shl;
+use crate::exact::rational::{decompose, rat_from_f64, rat_to_string, Rat};
 use crate::ids::VertexId;
 use crate::mesh::Mesh;
 use num_bigint::BigInt;
@@ -68,18 +69,94 @@ fn round_half_even(r: &Rat) -> BigInt {
     }
 }
 
+/// `x / q` rounded to the nearest integer `n` (ties to even), and the
+/// move `|x - n q|`, in big rationals: any `x`, any `q > 0`.
+fn index_rational(x: f64, q: &Rat) -> (BigInt, Rat) {
+    let x = rat_from_f64(x);
+    let n = round_half_even(&(&x / q));
+    let delta = (Rat::from_integer(n.clone()) * q - x).abs();
+    (n, delta)
+}
+
+/// As [`index_rational`] in `i128`, for `q = a / b` (`a`, `b > 0`): `n`
+/// and the move as `t / d` times `q` (`0 <= t <= d / 2`), or `None` when
+/// the products do not fit. With `x = m 2^e`, `x / q = m b 2^e / a`.
+fn index_i128(x: f64, (a, b): (i128, i128)) -> Option<(i128, i128, i128)> {
+    let Some((m, e)) = decompose(x) else {
+        return Some((0, 0, 1));
+    };
+    let mb = i128::from(m).checked_mul(b)?;
+    let (num, den) = if e >= 0 {
+        (shl(mb, e.unsigned_abs())?, a)
+    } else {
+        (mb, shl(a, e.unsigned_abs())?)
+    };
+    let (floor, r) = (num.div_euclid(den), num.rem_euclid(den));
+    let up = match r.cmp(&(den - r)) {
+        std::cmp::Ordering::Less => false,
+        std::cmp::Ordering::Greater => true,
+        std::cmp::Ordering::Equal => floor & 1 != 0,
+    };
+    Some(if up {
+        (floor.checked_add(1)?, den - r, den)
+    } else {
+        (floor, r, den)
+    })
+}
+
+/// The largest move so far, exact, with its nearest double to skip the
+/// exact comparison of a move that is clearly smaller.
+struct LargestMove {
+    exact: Rat,
+    approx: f64,
+}
+
+impl LargestMove {
+    /// Takes the move `t / d` times `q` (`q = a / b`, `q_f` its nearest
+    /// double). Its double estimate `fl(fl(fl(t) / fl(d)) q_f)` has five
+    /// correctly rounded steps (relative error below `6.01u`, `u = 2^-53`,
+    /// while normal), and `approx` is within `u` of the largest: an
+    /// estimate below `approx (1 - 16u)` (both above `2^-1000`) is of a
+    /// smaller move, as `(1 + u)(1 - 16u) / (1 - 6.01u) < 1`. Else the
+    /// move is compared exactly.
+    fn offer_ratio(&mut self, t: i128, d: i128, (a, b): (i128, i128), q_f: f64) {
+        const FLOOR: f64 = f64::from_bits((1023 - 1000) << 52);
+        let estimate = t as f64 / d as f64 * q_f;
+        let margin = 1.0 - f64::from_bits((1023 - 49) << 52);
+        if estimate >= FLOOR && self.approx >= FLOOR && estimate < self.approx * margin {
+            return;
+        }
+        self.offer(Rat::new(BigInt::from(t) * a, BigInt::from(d) * b));
+    }
+
+    fn offer(&mut self, delta: Rat) {
+        if delta > self.exact {
+            self.approx = crate::exact::rational::rat_to_f64(&delta);
+            self.exact = delta;
+        }
+    }
+}
+
 /// Snaps every coordinate to the nearest multiple of `q` and welds vertices
 /// that coincide afterwards (exact equality). Faces keep their order.
+/// Each coordinate is rounded in `i128` when `q`'s parts and the products
+/// fit (every decimal grid and ordinary coordinates), else in big
+/// rationals; the same result either way.
 pub fn snap(mesh: &Mesh, q: &Rat) -> Result<Snapped, SnapError> {
     if !q.is_positive() {
         return Err(SnapError::NonPositive(rat_to_string(q)));
     }
+    let parts = q.numer().to_i128().zip(q.denom().to_i128());
+    let q_f = crate::exact::rational::rat_to_f64(q);
     let mut positions: Vec<[f64; 3]> = Vec::with_capacity(mesh.num_vertices());
     let mut remap: Vec<VertexId> = Vec::with_capacity(mesh.num_vertices());
     let mut seen: HashMap<[u64; 3], VertexId, ahash::RandomState> =
         HashMap::with_capacity_and_hasher(mesh.num_vertices(), ahash::RandomState::new());
     let mut moved = 0;
-    let mut max_move = Rat::zero();
+    let mut largest = LargestMove {
+        exact: Rat::zero(),
+        approx: 0.0,
+    };
     for (v, p) in mesh.positions.iter().enumerate() {
         let vid = VertexId::from_idx(v);
         let mut out = [0.0f64; 3];
@@ -88,22 +165,30 @@ pub fn snap(mesh: &Mesh, q: &Rat) -> Result<Snapped, SnapError> {
             if !p[k].is_finite() {
                 return Err(SnapError::NonFinite(vid));
             }
-            let x = rat_from_f64(p[k]);
-            let n = round_half_even(&(&x / q));
-            let n64 = n
-                .to_i64()
-                .filter(|n| n.abs() <= MAX_GRID_INDEX)
-                .ok_or_else(|| SnapError::OutOfRange {
-                    vertex: vid,
-                    q: rat_to_string(q),
-                })?;
-            let delta = (Rat::from_integer(n) * q - x).abs();
-            if !delta.is_zero() {
-                changed = true;
-                if delta > max_move {
-                    max_move = delta;
+            let out_of_range = || SnapError::OutOfRange {
+                vertex: vid,
+                q: rat_to_string(q),
+            };
+            let n64 = match parts.and_then(|ab| Some((ab, index_i128(p[k], ab)?))) {
+                Some((ab, (n, t, d))) => {
+                    if t != 0 {
+                        changed = true;
+                        largest.offer_ratio(t, d, ab, q_f);
+                    }
+                    i64::try_from(n).ok()
                 }
-            }
+                None => {
+                    let (n, delta) = index_rational(p[k], q);
+                    if !delta.is_zero() {
+                        changed = true;
+                        largest.offer(delta);
+                    }
+                    n.to_i64()
+                }
+            };
+            let n64 = n64
+                .filter(|n| n.abs() <= MAX_GRID_INDEX)
+                .ok_or_else(out_of_range)?;
             // |n| <= 2^53: exact as a double; +0.0 for zero.
             out[k] = n64 as f64 + 0.0;
         }
@@ -125,7 +210,7 @@ pub fn snap(mesh: &Mesh, q: &Rat) -> Result<Snapped, SnapError> {
         mesh: Mesh { positions, faces },
         unit: q.clone(),
         moved,
-        max_move,
+        max_move: largest.exact,
         merged,
     })
 }
@@ -134,6 +219,87 @@ pub fn snap(mesh: &Mesh, q: &Rat) -> Result<Snapped, SnapError> {
 mod tests {
     use super::*;
     use crate::exact::parse_rational;
+
+    /// Doubles across the whole range and the grids users pass.
+    fn coordinate() -> impl proptest::strategy::Strategy<Value = f64> {
+        use proptest::prelude::*;
+        prop_oneof![
+            any::<u64>()
+                .prop_map(f64::from_bits)
+                .prop_filter("finite", |v| v.is_finite()),
+            any::<u32>()
+                .prop_map(f32::from_bits)
+                .prop_filter("finite", |v| v.is_finite())
+                .prop_map(f64::from),
+            (-100000i32..100000).prop_map(|k| f64::from(k) * 0.001),
+            (any::<i32>(), -80i32..20).prop_map(|(m, e)| f64::from(m) * 2f64.powi(e)),
+        ]
+    }
+
+    fn grid() -> impl proptest::strategy::Strategy<Value = Rat> {
+        use proptest::prelude::*;
+        prop_oneof![
+            (0u32..19).prop_map(|k| Rat::new(1.into(), BigInt::from(10u64).pow(k))),
+            (0u32..200).prop_map(|k| Rat::new(1.into(), BigInt::from(2).pow(k))),
+            (1u64..1 << 40, 1u64..1 << 40).prop_map(|(a, b)| Rat::new(a.into(), b.into())),
+        ]
+    }
+
+    proptest::proptest! {
+        /// The `i128` rounding gives the rational one's index and move.
+        #[test]
+        fn integer_rounding_is_the_rational_one(x in coordinate(), q in grid()) {
+            // A grid too fine for i128 (2^-200) takes the rational path.
+            let Some(parts) = q.numer().to_i128().zip(q.denom().to_i128()) else {
+                return Ok(());
+            };
+            let (n, delta) = index_rational(x, &q);
+            match index_i128(x, parts) {
+                Some((ni, t, d)) => {
+                    proptest::prop_assert_eq!(BigInt::from(ni), n);
+                    proptest::prop_assert_eq!(Rat::new(t.into(), d.into()) * &q, delta);
+                }
+                // Ordinary coordinates on an ordinary grid never need it.
+                None => proptest::prop_assert!(
+                    !(1e-6..=1e6).contains(&x.abs()) || parts.1 >= 1 << 41,
+                    "{} on {} took the rational path", x, q
+                ),
+            }
+        }
+
+        /// A whole mesh: positions and the largest move as the rational
+        /// rounding of every coordinate gives them.
+        #[test]
+        fn snapping_is_the_rational_rounding(xs in proptest::collection::vec(coordinate(), 3..30), q in grid()) {
+            let positions: Vec<[f64; 3]> = xs.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+            let m = Mesh::from_raw(positions.clone(), vec![]);
+            let want: Option<(Vec<[i64; 3]>, Rat)> = (|| {
+                let mut largest = Rat::zero();
+                let mut out = Vec::new();
+                for p in &positions {
+                    let mut o = [0i64; 3];
+                    for k in 0..3 {
+                        let (n, delta) = index_rational(p[k], &q);
+                        o[k] = n.to_i64().filter(|n| n.abs() <= MAX_GRID_INDEX)?;
+                        largest = largest.max(delta);
+                    }
+                    out.push(o);
+                }
+                Some((out, largest))
+            })();
+            match (snap(&m, &q), want) {
+                (Ok(s), Some((out, largest))) => {
+                    proptest::prop_assert_eq!(s.max_move, largest);
+                    for (v, o) in out.iter().enumerate() {
+                        let id = s.mesh.positions.iter().position(|p| p.map(|c| c as i64) == *o);
+                        proptest::prop_assert!(id.is_some(), "vertex {} not at its grid point", v);
+                    }
+                }
+                (Err(SnapError::OutOfRange { .. }), None) => {}
+                (got, want) => proptest::prop_assert!(false, "{:?} against {:?}", got.map(|s| s.max_move), want.map(|w| w.1)),
+            }
+        }
+    }
 
     #[test]
     fn cad_plane_becomes_exact() {
