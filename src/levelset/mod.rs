@@ -305,7 +305,6 @@ impl<'m> Slicer<'m> {
             })?;
         if !self.unit.is_one() {
             let u = &self.unit;
-            let u2 = u * u;
             // The signs are unchanged (u^2 > 0).
             let scale = |l: &mut Loop| {
                 for p in &mut l.points {
@@ -321,9 +320,14 @@ impl<'m> Slicer<'m> {
                 Arc::make_mut(&mut ls.below).iter_mut().for_each(scale);
                 Arc::make_mut(&mut ls.above).iter_mut().for_each(scale);
             }
-            for r in &mut ls.regions {
-                r.area *= &u2;
-                r.boundary.iter_mut().for_each(scale);
+            // Areas scale by u^2 (a big product: only for a level with
+            // regions).
+            if !ls.regions.is_empty() {
+                let u2 = u * u;
+                for r in &mut ls.regions {
+                    r.area *= &u2;
+                    r.boundary.iter_mut().for_each(scale);
+                }
             }
             for r in &mut ls.ridges {
                 r.points.iter_mut().for_each(|p| *p = p.scaled(u));
