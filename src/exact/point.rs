@@ -669,13 +669,12 @@ impl LoopPoint {
     /// held as integers stays so when the products fit `i128` (a snapped
     /// mesh's points, scaled back by the grid unit: no big rationals).
     pub fn scaled(&self, s: &Rat) -> LoopPoint {
-        match &self.0 {
-            Repr::Scaled(h) => match h.times(s) {
-                Some(h) => LoopPoint(Repr::Scaled(h)),
-                None => self.exact().scaled(s).into(),
-            },
-            _ => self.exact().scaled(s).into(),
+        if let Repr::Scaled(h) = &self.0 {
+            if let Some(h) = h.times(s) {
+                return LoopPoint(Repr::Scaled(h));
+            }
         }
+        self.exact().scaled(s).into()
     }
 }
 

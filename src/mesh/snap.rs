@@ -7,7 +7,7 @@
 //! to even), by at most `q / 2`.
 
 use crate::exact::level::shl;
-use crate::exact::rational::{decompose, rat_from_f64, rat_to_string, Rat};
+use crate::exact::rational::{decompose, rat_from_f64, rat_to_f64, rat_to_string, Rat};
 use crate::ids::VertexId;
 use crate::mesh::Mesh;
 use num_bigint::BigInt;
@@ -116,9 +116,11 @@ impl LargestMove {
     /// double). Its double estimate `fl(fl(fl(t) / fl(d)) q_f)` has five
     /// correctly rounded steps (relative error below `6.01u`, `u = 2^-53`,
     /// while normal), and `approx` is within `u` of the largest: an
-    /// estimate below `approx (1 - 16u)` (both above `2^-1000`) is of a
-    /// smaller move, as `(1 + u)(1 - 16u) / (1 - 6.01u) < 1`. Else the
-    /// move is compared exactly.
+    /// estimate below `fl(approx (1 - 16u))` (both above `2^-1000`) is of
+    /// a smaller move, as `(1 + u)^2 (1 - 16u) / (1 - 6.01u) < 1` (one `u`
+    /// for `approx`, one for that product). Else the move is compared
+    /// exactly. Only which move is reported depends on this, never a
+    /// snapped position.
     fn offer_ratio(&mut self, t: i128, d: i128, (a, b): (i128, i128), q_f: f64) {
         const FLOOR: f64 = f64::from_bits((1023 - 1000) << 52);
         let estimate = t as f64 / d as f64 * q_f;
@@ -131,7 +133,7 @@ impl LargestMove {
 
     fn offer(&mut self, delta: Rat) {
         if delta > self.exact {
-            self.approx = crate::exact::rational::rat_to_f64(&delta);
+            self.approx = rat_to_f64(&delta);
             self.exact = delta;
         }
     }
@@ -147,7 +149,7 @@ pub fn snap(mesh: &Mesh, q: &Rat) -> Result<Snapped, SnapError> {
         return Err(SnapError::NonPositive(rat_to_string(q)));
     }
     let parts = q.numer().to_i128().zip(q.denom().to_i128());
-    let q_f = crate::exact::rational::rat_to_f64(q);
+    let q_f = rat_to_f64(q);
     let mut positions: Vec<[f64; 3]> = Vec::with_capacity(mesh.num_vertices());
     let mut remap: Vec<VertexId> = Vec::with_capacity(mesh.num_vertices());
     let mut seen: HashMap<[u64; 3], VertexId, ahash::RandomState> =
@@ -186,6 +188,8 @@ pub fn snap(mesh: &Mesh, q: &Rat) -> Result<Snapped, SnapError> {
                     n.to_i64()
                 }
             };
+            // Beyond 2^53 steps a double cannot hold the index: refused
+            // by name (not a tolerance).
             let n64 = n64
                 .filter(|n| n.abs() <= MAX_GRID_INDEX)
                 .ok_or_else(out_of_range)?;
@@ -259,7 +263,9 @@ mod tests {
                     proptest::prop_assert_eq!(BigInt::from(ni), n);
                     proptest::prop_assert_eq!(Rat::new(t.into(), d.into()) * &q, delta);
                 }
-                // Ordinary coordinates on an ordinary grid never need it.
+                // Coverage, not a tolerance: ordinary coordinates on an
+                // ordinary grid must take the i128 path (the big path
+                // would be correct, only slow).
                 None => proptest::prop_assert!(
                     !(1e-6..=1e6).contains(&x.abs()) || parts.1 >= 1 << 41,
                     "{} on {} took the rational path", x, q
