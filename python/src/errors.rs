@@ -127,7 +127,9 @@ pub fn sweep_error<E: std::error::Error + 'static>(py: Python<'_>, e: SweepError
 pub fn snap_error(py: Python<'_>, e: SnapError) -> PyErr {
     let text = e.to_string();
     let value = match &e {
-        SnapError::NonPositive(_) => return PyValueError::new_err(text),
+        SnapError::NonPositive(_) | SnapError::TooManyVertices => {
+            return PyValueError::new_err(text)
+        }
         SnapError::NonFinite(v) => {
             serde_json::json!({"kind": "non_finite_coordinate", "vertex": v.0})
         }

@@ -9,11 +9,11 @@
 use crate::exact::level::shl;
 use crate::exact::rational::{decompose, rat_from_f64, rat_to_f64, rat_to_string, Rat};
 use crate::ids::VertexId;
+use crate::mesh::weld::{weld_points, MAX_ELEMENTS};
 use crate::mesh::Mesh;
 use num_bigint::BigInt;
 use num_integer::Integer;
 use num_traits::{Signed, ToPrimitive, Zero};
-use std::collections::HashMap;
 
 /// The largest grid index that a double holds exactly.
 pub const MAX_GRID_INDEX: i64 = 1 << 53;
@@ -35,6 +35,9 @@ pub enum SnapError {
         /// The grid, as `p/q`.
         q: String,
     },
+    /// More vertices than ids.
+    #[error("too many vertices to snap: more than {MAX_ELEMENTS}")]
+    TooManyVertices,
 }
 
 /// A snapped mesh and what snapping did.
@@ -91,7 +94,16 @@ fn index_i128(x: f64, (a, b): (i128, i128)) -> Option<(i128, i128, i128)> {
     } else {
         (mb, shl(a, e.unsigned_abs())?)
     };
-    let (floor, r) = (num.div_euclid(den), num.rem_euclid(den));
+    let (floor, r) = if den & (den - 1) == 0 {
+        // A power of two (every decimal or binary grid `1 / b` below a
+        // coordinate's last bit): the floor is a shift, the remainder a
+        // mask (two's complement: both exact for a negative `num`).
+        (num >> den.trailing_zeros(), num & (den - 1))
+    } else {
+        // One division (`i128` division is a library call).
+        let floor = num.div_euclid(den);
+        (floor, num - floor * den)
+    };
     let up = match r.cmp(&(den - r)) {
         std::cmp::Ordering::Less => false,
         std::cmp::Ordering::Greater => true,
@@ -150,10 +162,7 @@ pub fn snap(mesh: &Mesh, q: &Rat) -> Result<Snapped, SnapError> {
     }
     let parts = q.numer().to_i128().zip(q.denom().to_i128());
     let q_f = rat_to_f64(q);
-    let mut positions: Vec<[f64; 3]> = Vec::with_capacity(mesh.num_vertices());
-    let mut remap: Vec<VertexId> = Vec::with_capacity(mesh.num_vertices());
-    let mut seen: HashMap<[u64; 3], VertexId, ahash::RandomState> =
-        HashMap::with_capacity_and_hasher(mesh.num_vertices(), ahash::RandomState::new());
+    let mut snapped: Vec<[f64; 3]> = Vec::with_capacity(mesh.num_vertices());
     let mut moved = 0;
     let mut largest = LargestMove {
         exact: Rat::zero(),
@@ -197,18 +206,17 @@ pub fn snap(mesh: &Mesh, q: &Rat) -> Result<Snapped, SnapError> {
             out[k] = n64 as f64 + 0.0;
         }
         moved += changed as usize;
-        let key = out.map(f64::to_bits);
-        let id = *seen.entry(key).or_insert_with(|| {
-            positions.push(out);
-            VertexId::from_idx(positions.len() - 1)
-        });
-        remap.push(id);
+        snapped.push(out);
     }
+    // Vertices on one grid point merged, in first-seen order (the weld's
+    // prefetching table: a hash map waited for memory at every vertex).
+    let (positions, remap) = weld_points(&snapped).map_err(|_| SnapError::TooManyVertices)?;
+    drop(snapped);
     let merged = mesh.num_vertices() - positions.len();
     let faces = mesh
         .faces
         .iter()
-        .map(|t| t.map(|v| remap.get(v.idx()).copied().unwrap_or(v)))
+        .map(|t| t.map(|v| remap.get(v.idx()).map_or(v, |&id| VertexId(id))))
         .collect();
     Ok(Snapped {
         mesh: Mesh { positions, faces },

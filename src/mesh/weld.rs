@@ -106,6 +106,19 @@ pub fn weld_corners(
     weld_in_runs(n, &corner, runs)
 }
 
+/// Welds a list of points by exact coordinate equality, in one run (one
+/// thread): the distinct points in first-seen order and each point's id
+/// among them. Snapping merges the vertices that land on one grid point
+/// with it ([`crate::mesh::snap`]).
+pub(crate) fn weld_points(points: &[[f64; 3]]) -> Result<(Vec<[f64; 3]>, Vec<u32>), WeldError> {
+    if points.len() > MAX_ELEMENTS {
+        return Err(TOO_MANY_VERTICES);
+    }
+    let hasher = ahash::RandomState::new();
+    let run = weld_run(0..points.len(), points.len(), &|i| points[i], &hasher)?;
+    Ok((run.positions, run.ids))
+}
+
 /// Triangles from which welding is split into runs.
 const PARALLEL_FROM: usize = 1 << 14;
 
@@ -484,6 +497,15 @@ mod tests {
                 proptest::prop_assert_eq!(bits(&w.mesh.positions), bits(&positions));
                 proptest::prop_assert_eq!(w.corners, 3 * n);
             }
+            // The corners as a list of points: the same vertices and ids.
+            let points: Vec<[f64; 3]> = (0..3 * n).map(corner).collect();
+            let (kept, ids) = weld_points(&points).unwrap();
+            let ids: Vec<[VertexId; 3]> = ids
+                .chunks_exact(3)
+                .map(|c| [c[0], c[1], c[2]].map(VertexId))
+                .collect();
+            proptest::prop_assert_eq!(&ids, &faces);
+            proptest::prop_assert_eq!(bits(&kept), bits(&positions));
         }
     }
 }
