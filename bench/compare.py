@@ -268,9 +268,12 @@ def main():
     ap.add_argument("--command", default="bench/compare")
     ap.add_argument("--no-pin", dest="pin", action="store_false",
                     help="do not pin each process to one CPU (two for wmslice-2t)")
-    ap.add_argument("--shapes", nargs="+", default=["torus", "steps", "torus0", "knot", "steps64"],
+    ap.add_argument("--shapes", nargs="+",
+                    default=["torus", "steps", "torus0", "torus0@1e-9", "knot", "steps64"],
                     help="torus, steps: on one small grid; torus0 (origin-centred f32 with noise "
-                    "near zero), knot (decimal OBJ), steps64 (f64 CAD-like): real patterns")
+                    "near zero), knot (decimal OBJ), steps64 (f64 CAD-like): real patterns; "
+                    "SHAPE@Q: SHAPE with wmslice snapping to the grid Q (`--snap Q`; the peers "
+                    "slice the file as read)")
     args = ap.parse_args()
     TIMEOUT[0] = args.timeout
     PIN[0] = args.pin
@@ -289,18 +292,25 @@ def main():
     timed_out = []  # (tool, shape, triangles, layers)
     for size in args.sizes:
         for shape in args.shapes:
+            shape, _, grid = shape.partition("@")
+            snap_args = ["--snap", grid] if grid else []
             name = f"{shape}_{size}"
             meta = json.load(open(os.path.join(args.meshes, name + ".json")))
             mesh = os.path.join(args.meshes, meta.get("file", name + ".stl"))
+            if grid:
+                name += f" --snap {grid}"
+                shape += f"@{grid}"
+
             for layers in args.layers:
                 first, h, n = plan(meta, layers)
                 last = first + (n - 1) * h
-                levels_file = os.path.join(args.out, f"levels_{name}_{n}.txt")
+                levels_file = os.path.join(args.out, f"levels_{name.split()[0]}_{n}.txt")
                 with open(levels_file, "w") as f:
                     for k in range(n):
                         f.write(repr(float(first + k * h)) + "\n")
-                plan_args = ["--layer-height", dec(h), "--first", dec(first), "--last", dec(last)]
-                out_json = os.path.join(args.out, f"wmslice_{name}_{n}.json")
+                plan_args = ["--layer-height", dec(h), "--first", dec(first), "--last", dec(last),
+                             *snap_args]
+                out_json = os.path.join(args.out, f"wmslice_{name.split()[0]}_{n}.json")
                 def cli_for(tool):
                     threads = "2" if tool == "wmslice-2t" else "1"
                     return [args.wmslice, "slice", mesh, *plan_args, "--threads", threads,

@@ -4,10 +4,12 @@
 //!
 //! ```sh
 //! cargo run --release --example bench_slice -- MESH.stl --layer-height H \
-//!     [--first Z0] [--last Z1] [--threads N] [--repeat R]
+//!     [--first Z0] [--last Z1] [--threads N] [--repeat R] [--snap Q]
 //! ```
 //!
-//! `load_s`: read, parse and weld the file; `build_s`: validation and
+//! `load_s`: read, parse and weld the file (with `--snap`, also snap it
+//! to the grid `Q` and flip away degenerate faces, as `wmslice slice
+//! --snap` does); `build_s`: validation and
 //! topology (`Slicer::new`, on `--threads` workers); `slice_s`:
 //! `layers::slice_levels` alone (the median of `R` runs, default 1),
 //! results dropped after counting, nothing written out.
@@ -23,6 +25,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut mesh_path = None;
     let (mut height, mut first, mut last) = (None, None, None);
     let (mut threads, mut repeat) = (1usize, 1usize);
+    let mut snap = None;
     while let Some(a) = args.next() {
         let mut value = || args.next().ok_or(format!("{a} needs a value"));
         match a.as_str() {
@@ -31,16 +34,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "--last" => last = Some(parse_rational(&value()?)?),
             "--threads" => threads = value()?.parse()?,
             "--repeat" => repeat = value()?.parse::<usize>()?.max(1),
+            "--snap" => snap = Some(parse_rational(&value()?)?),
             _ if mesh_path.is_none() => mesh_path = Some(a),
             _ => return Err(format!("unexpected argument {a}").into()),
         }
     }
-    let usage = "usage: bench_slice MESH --layer-height H [--first Z0] [--last Z1] [--threads N] [--repeat R]";
+    let usage = "usage: bench_slice MESH --layer-height H [--first Z0] [--last Z1] [--threads N] [--repeat R] [--snap Q]";
     let mesh_path = mesh_path.ok_or(usage)?;
     let height = height.ok_or(usage)?;
 
     let t = Instant::now();
     let (mesh, _report) = wmslice::mesh::io::load(std::path::Path::new(&mesh_path))?;
+    // In grid units when snapped: true coordinate = stored * unit.
+    let prepared = wmslice::mesh::prepare::prepare(mesh, snap.as_ref())?;
+    let (mesh, unit) = (
+        prepared.mesh,
+        prepared.unit.unwrap_or_else(|| Rat::from_integer(1.into())),
+    );
     let load_s = t.elapsed().as_secs_f64();
 
     let t = Instant::now();
@@ -48,12 +58,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()?;
-    let slicer = pool.install(|| Slicer::new(&mesh))?;
+    let slicer = pool.install(|| Slicer::with_unit(&mesh, unit.clone()))?;
     let build_s = t.elapsed().as_secs_f64();
 
     let zs = mesh.positions.iter().map(|p| p[2]);
-    let lo = rat_from_f64(zs.clone().fold(f64::INFINITY, f64::min));
-    let hi = rat_from_f64(zs.fold(f64::NEG_INFINITY, f64::max));
+    let lo = rat_from_f64(zs.clone().fold(f64::INFINITY, f64::min)) * &unit;
+    let hi = rat_from_f64(zs.fold(f64::NEG_INFINITY, f64::max)) * &unit;
     let plan = LayerPlan {
         height,
         first,
