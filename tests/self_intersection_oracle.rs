@@ -40,82 +40,12 @@ mod meshgen;
 
 use common::Slab;
 use proptest::prelude::*;
-use std::collections::BTreeSet;
 use wmslice::exact::predicates::is_degenerate_triangle;
-use wmslice::ids::FaceId;
-use wmslice::mesh::intersect::{self_intersections, EdgeOverlap};
+use wmslice::mesh::intersect::EdgeOverlap;
 use wmslice::mesh::topology::Topology;
-use wmslice::mesh::validate::{validate, Defect};
+use wmslice::oracle::compare::compare_self_intersections as compare;
 use wmslice::oracle::oracle_self_intersections;
 use wmslice::{Mesh, VertexId};
-
-/// The mesh as pasteable Rust, for a failure report.
-fn pasteable(m: &Mesh) -> String {
-    format!(
-        "Mesh::from_raw(vec!{:?}, vec!{:?})",
-        m.positions,
-        m.faces.iter().map(|f| f.map(|v| v.0)).collect::<Vec<_>>()
-    )
-}
-
-/// Compares on a closed, oriented, manifold mesh with finite coordinates;
-/// `Ok(verdict)` when both sides agree (`None`: the topology has issues,
-/// nothing to compare).
-fn compare(m: &Mesh) -> Result<Option<bool>, String> {
-    let (topo, issues) = Topology::build(m);
-    if !issues.is_empty() {
-        return Ok(None);
-    }
-    let cgal = oracle_self_intersections(m).map_err(|e| format!("oracle: {e}"))?;
-    let degenerate: BTreeSet<FaceId> = (0..m.num_faces())
-        .map(FaceId::from_idx)
-        .filter(|&f| {
-            let [a, b, c] = m.faces[f.idx()].map(|v| m.pos(v));
-            is_degenerate_triangle(a, b, c)
-        })
-        .collect();
-    let cgal_degenerate: BTreeSet<FaceId> = cgal
-        .pairs
-        .iter()
-        .filter(|(a, b)| a == b)
-        .map(|&(a, _)| a)
-        .collect();
-    if cgal_degenerate != degenerate {
-        return Err(format!(
-            "degenerate faces: CGAL {cgal_degenerate:?}, ours {degenerate:?}\n{}",
-            pasteable(m)
-        ));
-    }
-    let proper = |p: &&(FaceId, FaceId)| !degenerate.contains(&p.0) && !degenerate.contains(&p.1);
-    let theirs: Vec<_> = cgal.pairs.iter().filter(proper).copied().collect();
-    let all_ours = self_intersections(m, &topo);
-    let ours: Vec<_> = all_ours.iter().filter(proper).copied().collect();
-    if theirs != ours {
-        return Err(format!(
-            "pairs: CGAL {theirs:?}, ours {ours:?}\n{}",
-            pasteable(m)
-        ));
-    }
-    // The verdicts: CGAL's does_self_intersect, and validation's refusal
-    // by a fold or a self-intersection (or a degenerate face, which CGAL
-    // counts as intersecting).
-    let report = validate(m);
-    let refused = report.defects.iter().any(|d| {
-        matches!(
-            d,
-            Defect::SelfIntersection { .. } | Defect::Fold { .. } | Defect::DegenerateFace { .. }
-        )
-    });
-    let some_pair = !cgal.pairs.is_empty();
-    if cgal.does_intersect != refused || cgal.does_intersect != some_pair {
-        return Err(format!(
-            "verdict: CGAL {}, ours {refused} ({report})\n{}",
-            cgal.does_intersect,
-            pasteable(m)
-        ));
-    }
-    Ok(Some(cgal.does_intersect))
-}
 
 /// Both meshes in one, the second's ids after the first's.
 fn union(a: &Mesh, b: &Mesh) -> Mesh {

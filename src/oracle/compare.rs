@@ -15,14 +15,23 @@
 //! the oracle's own edge classes) is removed, and must be there to remove;
 //! the one-point polylines must be exactly the points of P; what is left
 //! must equal, as a multiset, the undirected segments of Rust's S_O loops.
+//!
+//! [`compare_self_intersections`] compares validation's self-intersection
+//! verdict and face pairs with CGAL's (shared by
+//! `tests/self_intersection_oracle.rs` and `examples/heldout_oracle.rs`,
+//! whose doc says what each side counts).
 
-use super::{oracle_classify, ExactXY, OracleEdgeClass, OracleResult};
+use super::{oracle_classify, oracle_self_intersections, ExactXY, OracleEdgeClass, OracleResult};
 use crate::classify::{vertex_signs, ExtremumKind, Facing, RidgeKind};
 use crate::datasets::slab::{heights_and_midpoints, Slab};
+use crate::exact::predicates::is_degenerate_triangle;
 use crate::exact::rational::{rat_from_f64, rat_to_string, Rat};
 use crate::exact::{Level, Point2, Sign};
 use crate::ids::{FaceId, VertexId};
 use crate::levelset::{LevelSet, Slicer};
+use crate::mesh::intersect::self_intersections;
+use crate::mesh::topology::Topology;
+use crate::mesh::validate::{validate, Defect};
 use crate::mesh::Mesh;
 use crate::segment::CutPoint;
 use std::collections::{BTreeMap, BTreeSet};
@@ -440,4 +449,64 @@ pub fn compare_slab(slab: &Slab, extra: &[Rat], cov: &mut Coverage) -> Result<()
         msg.push(']');
         msg
     })
+}
+
+/// Compares this crate's exact self-intersection test with CGAL's on a
+/// closed, oriented, manifold mesh with finite coordinates: the degenerate
+/// faces (CGAL's `(f, f)` pairs), the pairs of proper faces, and the
+/// verdict (CGAL's `does_self_intersect` against validation's refusal by
+/// a fold, a self-intersection or a degenerate face). `Ok(Some(verdict))`
+/// when both agree, `Ok(None)` when the topology has issues (nothing to
+/// compare), else what differs, with the mesh as pasteable Rust.
+pub fn compare_self_intersections(m: &Mesh) -> Result<Option<bool>, String> {
+    let (topo, issues) = Topology::build(m);
+    if !issues.is_empty() {
+        return Ok(None);
+    }
+    let cgal = oracle_self_intersections(m).map_err(|e| format!("oracle: {e}"))?;
+    let degenerate: BTreeSet<FaceId> = (0..m.num_faces())
+        .map(FaceId::from_idx)
+        .filter(|&f| {
+            let [a, b, c] = m.faces[f.idx()].map(|v| m.pos(v));
+            is_degenerate_triangle(a, b, c)
+        })
+        .collect();
+    let cgal_degenerate: BTreeSet<FaceId> = cgal
+        .pairs
+        .iter()
+        .filter(|(a, b)| a == b)
+        .map(|&(a, _)| a)
+        .collect();
+    if cgal_degenerate != degenerate {
+        return Err(format!(
+            "degenerate faces: CGAL {cgal_degenerate:?}, ours {degenerate:?}\n{}",
+            pasteable_mesh(m)
+        ));
+    }
+    let proper = |p: &&(FaceId, FaceId)| !degenerate.contains(&p.0) && !degenerate.contains(&p.1);
+    let theirs: Vec<_> = cgal.pairs.iter().filter(proper).copied().collect();
+    let all_ours = self_intersections(m, &topo);
+    let ours: Vec<_> = all_ours.iter().filter(proper).copied().collect();
+    if theirs != ours {
+        return Err(format!(
+            "pairs: CGAL {theirs:?}, ours {ours:?}\n{}",
+            pasteable_mesh(m)
+        ));
+    }
+    let report = validate(m);
+    let refused = report.defects.iter().any(|d| {
+        matches!(
+            d,
+            Defect::SelfIntersection { .. } | Defect::Fold { .. } | Defect::DegenerateFace { .. }
+        )
+    });
+    let some_pair = !cgal.pairs.is_empty();
+    if cgal.does_intersect != refused || cgal.does_intersect != some_pair {
+        return Err(format!(
+            "verdict: CGAL {}, ours {refused} ({report})\n{}",
+            cgal.does_intersect,
+            pasteable_mesh(m)
+        ));
+    }
+    Ok(Some(cgal.does_intersect))
 }

@@ -1,0 +1,94 @@
+//! Compares this crate with the CGAL oracle on mesh files you did not make
+//! (never committed: fetch them, e.g. trimesh's `models/`, manifold's
+//! `test/models/`):
+//!
+//! ```sh
+//! cargo run --release --features cgal-oracle --example heldout_oracle -- \
+//!     [--snap Q] [--levels N] MESH...
+//! ```
+//!
+//! For each file, the mesh as sliced (read, snapped to `Q` when given,
+//! degenerate faces flipped away): validation's self-intersection verdict
+//! and face pairs against CGAL's
+//! ([`wmslice::oracle::compare::compare_self_intersections`]; skipped when
+//! the topology has issues), then, when the slicer accepts the mesh, the
+//! whole level set against CGAL's at `N` (default 40) of its vertex heights
+//! and midpoints between them, evenly picked
+//! ([`wmslice::oracle::compare::compare_levels`]). One line per file; exits
+//! with 1 when they disagree anywhere.
+
+use wmslice::datasets::slab::heights_and_midpoints;
+use wmslice::exact::parse_rational;
+use wmslice::oracle::compare::{compare_levels, compare_self_intersections, Coverage};
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut args = std::env::args().skip(1);
+    let (mut snap, mut levels, mut paths) = (None, 40usize, Vec::new());
+    while let Some(a) = args.next() {
+        match a.as_str() {
+            "--snap" => snap = Some(parse_rational(&args.next().ok_or("--snap needs Q")?)?),
+            "--levels" => levels = args.next().ok_or("--levels needs N")?.parse()?,
+            _ => paths.push(a),
+        }
+    }
+    if paths.is_empty() {
+        return Err("usage: heldout_oracle [--snap Q] [--levels N] MESH...".into());
+    }
+    let mut disagreed = 0;
+    for path in &paths {
+        let name = std::path::Path::new(path)
+            .file_name()
+            .map_or(path.clone(), |n| n.to_string_lossy().into_owned());
+        let mesh = match wmslice::mesh::io::load(std::path::Path::new(path)) {
+            Ok((mesh, _)) => mesh,
+            Err(e) => {
+                println!("unread    {name}: {e}");
+                continue;
+            }
+        };
+        let mesh = match wmslice::mesh::prepare::prepare(mesh, snap.as_ref()) {
+            Ok(p) => p.mesh,
+            Err(e) => {
+                println!("unsnapped {name}: {e}");
+                continue;
+            }
+        };
+        let intersections = match compare_self_intersections(&mesh) {
+            Ok(None) => "topology has issues".to_string(),
+            Ok(Some(true)) => "both find self-intersections".to_string(),
+            Ok(Some(false)) => "neither finds self-intersections".to_string(),
+            Err(e) => {
+                disagreed += 1;
+                println!("DISAGREE  {name}: self-intersections: {}", first_lines(&e));
+                continue;
+            }
+        };
+        if wmslice::Slicer::new(&mesh).is_err() {
+            println!("refused   {name}: {intersections}");
+            continue;
+        }
+        let all = heights_and_midpoints(&mesh);
+        let n = levels.min(all.len());
+        let picked: Vec<_> = (0..n)
+            .map(|i| all[i * (all.len() - 1) / (n - 1).max(1)].clone())
+            .collect();
+        let mut cov = Coverage::default();
+        match compare_levels(&mesh, &picked, &mut cov) {
+            Ok(()) => println!("agree     {name}: {intersections}; {n} levels"),
+            Err(e) => {
+                disagreed += 1;
+                println!("DISAGREE  {name}: levels: {}", first_lines(&e));
+            }
+        }
+    }
+    if disagreed > 0 {
+        eprintln!("{disagreed} of {} files disagree", paths.len());
+        std::process::exit(1);
+    }
+    Ok(())
+}
+
+/// The first lines of a report (the rest is the mesh as pasteable Rust).
+fn first_lines(report: &str) -> String {
+    report.lines().take(8).collect::<Vec<_>>().join("\n    ")
+}
