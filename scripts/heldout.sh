@@ -11,7 +11,8 @@
 # Prints one line per mesh; exits non-zero when a mesh the checker
 # accepted fails to slice or to verify (the worst bug: an internal error
 # or a wrong answer on an accepted mesh). Never commit the meshes: fetch
-# them (e.g. trimesh's models/, manifold's test/models/).
+# them (e.g. trimesh's models/, manifold's test/models/). WMSLICE picks
+# the binary (default: this tree's, built when stale).
 set -uo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 snap=(); max=400
@@ -24,8 +25,13 @@ while [ $# -gt 0 ]; do
     esac
     shift
 done
-wm="${WMSLICE:-${CARGO_TARGET_DIR:-$root/target}/release/wmslice}"
-[ -x "$wm" ] || (cd "$root" && cargo build --release --quiet --bin wmslice) || exit 2
+# The binary of this tree (built when stale), or WMSLICE when set.
+if [ -n "${WMSLICE:-}" ]; then
+    wm="$WMSLICE"
+else
+    (cd "$root" && cargo build --release --quiet --bin wmslice) || exit 2
+    wm="${CARGO_TARGET_DIR:-$root/target}/release/wmslice"
+fi
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 failed=0
 for m in "$@"; do
