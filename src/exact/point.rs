@@ -392,26 +392,16 @@ impl Scaled {
         }
     }
 
-    /// The point times `s` (exact), still as integers when the products
-    /// fit: `s = a 2^t / b` (`a`, `b` odd) multiplies `x` and `y` by `a`,
-    /// `w` by `b`, and adds `t` to `e`. `None` when they do not fit (or
-    /// `s` is zero).
-    fn times(self, s: &Rat) -> Option<Scaled> {
-        let (a, b) = (s.numer().to_i128()?, s.denom().to_i128()?);
-        if a == 0 {
-            return None;
-        }
-        let (ta, tb) = (a.trailing_zeros(), b.trailing_zeros());
-        let (a, b) = (a >> ta, b >> tb);
-        let w = self.w.checked_mul(b)?;
+    /// The point times `s = a 2^t / b` (exact), still as integers when the
+    /// products fit: `x` and `y` times `a`, `w` times `b`, `t` added to
+    /// `e`. `None` when they do not fit.
+    fn times(self, s: SplitScale) -> Option<Scaled> {
+        let w = self.w.checked_mul(s.b)?;
         (w < 1 << 126).then_some(Scaled {
-            x: self.x.checked_mul(a)?,
-            y: self.y.checked_mul(a)?,
+            x: self.x.checked_mul(s.a)?,
+            y: self.y.checked_mul(s.a)?,
             w,
-            e: self
-                .e
-                .checked_add(i32::try_from(ta).ok()?)?
-                .checked_sub(i32::try_from(tb).ok()?)?,
+            e: self.e.checked_add(s.t)?,
         })
     }
 
@@ -669,12 +659,56 @@ impl LoopPoint {
     /// held as integers stays so when the products fit `i128` (a snapped
     /// mesh's points, scaled back by the grid unit: no big rationals).
     pub fn scaled(&self, s: &Rat) -> LoopPoint {
-        if let Repr::Scaled(h) = &self.0 {
-            if let Some(h) = h.times(s) {
+        self.scaled_by(&Scale::new(s))
+    }
+
+    /// [`LoopPoint::scaled`] by a factor split once for many points.
+    pub fn scaled_by(&self, s: &Scale) -> LoopPoint {
+        if let (Repr::Scaled(h), Some(split)) = (&self.0, s.split) {
+            if let Some(h) = h.times(split) {
                 return LoopPoint(Repr::Scaled(h));
             }
         }
-        self.exact().scaled(s).into()
+        self.exact().scaled(&s.rat).into()
+    }
+}
+
+/// A nonzero rational factor, with its parts `s = a 2^t / b` (`a`, `b`
+/// odd, `b > 0`) split once when they fit `i128`, for scaling many points
+/// ([`LoopPoint::scaled_by`]).
+#[derive(Clone, Debug)]
+pub struct Scale {
+    rat: Rat,
+    split: Option<SplitScale>,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct SplitScale {
+    a: i128,
+    b: i128,
+    t: i32,
+}
+
+impl Scale {
+    /// The factor `s` and its split parts.
+    pub fn new(s: &Rat) -> Scale {
+        let split = || {
+            let (a, b) = (s.numer().to_i128()?, s.denom().to_i128()?);
+            if a == 0 {
+                return None;
+            }
+            let (ta, tb) = (a.trailing_zeros(), b.trailing_zeros());
+            let t = i32::try_from(ta).ok()? - i32::try_from(tb).ok()?;
+            Some(SplitScale {
+                a: a >> ta,
+                b: b >> tb,
+                t,
+            })
+        };
+        Scale {
+            rat: s.clone(),
+            split: split(),
+        }
     }
 }
 

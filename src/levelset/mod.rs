@@ -20,7 +20,7 @@ use crate::exact::crossing::{Crossings, EdgeGridEnds};
 use crate::exact::filter::{signed_area_filtered, FilteredPoint};
 use crate::exact::frame::Frame;
 use crate::exact::grid::MeshGrid;
-use crate::exact::point::LoopPoint;
+use crate::exact::point::{LoopPoint, Scale};
 use crate::exact::rational::{rat_div, rat_to_f64, Rat};
 use crate::exact::{Level, Point2, Sign};
 use crate::ids::{EdgeId, FaceId, VertexId};
@@ -305,10 +305,12 @@ impl<'m> Slicer<'m> {
             })?;
         if !self.unit.is_one() {
             let u = &self.unit;
-            // The signs are unchanged (u^2 > 0).
+            // The signs are unchanged (u^2 > 0). The unit is split into
+            // integer parts once, not per point.
+            let unit = Scale::new(u);
             let scale = |l: &mut Loop| {
                 for p in &mut l.points {
-                    *p = p.scaled(u);
+                    *p = p.scaled_by(&unit);
                 }
             };
             let shared = Arc::ptr_eq(&ls.contours, &ls.below);
