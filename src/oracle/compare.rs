@@ -18,8 +18,8 @@
 //!
 //! [`compare_self_intersections`] compares validation's self-intersection
 //! verdict and face pairs with CGAL's (shared by
-//! `tests/self_intersection_oracle.rs` and `examples/heldout_oracle.rs`,
-//! whose doc says what each side counts).
+//! `tests/self_intersection_oracle.rs`, whose doc says what each side
+//! counts, and `examples/heldout_oracle.rs`).
 
 use super::{oracle_classify, oracle_self_intersections, ExactXY, OracleEdgeClass, OracleResult};
 use crate::classify::{vertex_signs, ExtremumKind, Facing, RidgeKind};
