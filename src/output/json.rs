@@ -147,12 +147,31 @@ fn integer(out: &mut Vec<u8>, v: u64) {
     let _ = CompactFormatter.write_u64(out, v);
 }
 
-/// Writes `[x,y]`.
+/// Writes `[x,y]`, each number as [`number`] writes it.
+///
+/// Both coordinates are formatted before either is copied out: copying a
+/// number's text straight after `zmij` wrote it loads bytes that are still
+/// in the store buffer in pieces, a stall that cost more than the
+/// formatting (a quarter of a small part's JSON text).
 fn pair(out: &mut Vec<u8>, [x, y]: [f64; 2]) {
+    if !(x.is_finite() && y.is_finite()) {
+        out.push(b'[');
+        number(out, x);
+        out.push(b',');
+        number(out, y);
+        out.push(b']');
+        return;
+    }
+    let (mut bx, mut by) = (zmij::Buffer::new(), zmij::Buffer::new());
+    let (tx, ty) = (
+        bx.format_finite(x).as_bytes(),
+        by.format_finite(y).as_bytes(),
+    );
+    out.reserve(tx.len() + ty.len() + 3);
     out.push(b'[');
-    number(out, x);
+    out.extend_from_slice(tx);
     out.push(b',');
-    number(out, y);
+    out.extend_from_slice(ty);
     out.push(b']');
 }
 
@@ -414,6 +433,31 @@ mod tests {
             super::overflowed(&mut out, &r);
             assert_eq!(String::from_utf8(out).unwrap(), text);
         }
+    }
+
+    /// A point's text equals `serde_json`'s for any two doubles, every
+    /// exponent, subnormals, zeros of both signs and non-finite values
+    /// (`null`), whole bit patterns drawn.
+    #[test]
+    fn a_point_is_written_as_serde_json_writes_it() {
+        use proptest::prelude::*;
+        let special = prop::sample::select(vec![
+            0.0,
+            -0.0,
+            f64::MIN_POSITIVE,
+            5e-324,
+            f64::MAX,
+            f64::INFINITY,
+            f64::NAN,
+            1e16,
+            1e-7,
+        ]);
+        let any = prop_oneof![any::<u64>().prop_map(f64::from_bits), special];
+        proptest!(ProptestConfig::with_cases(20_000), |(x in any.clone(), y in any)| {
+            let mut out = Vec::new();
+            super::pair(&mut out, [x, y]);
+            prop_assert_eq!(out, serde_json::to_vec(&[x, y]).unwrap());
+        });
     }
 
     use super::*;
