@@ -151,8 +151,8 @@ fn integer(out: &mut Vec<u8>, v: u64) {
 ///
 /// Both coordinates are formatted before either is copied out: copying a
 /// number's text straight after `zmij` wrote it loads bytes that are still
-/// in the store buffer in pieces, a stall that cost more than the
-/// formatting (a quarter of a small part's JSON text).
+/// in the store buffer in pieces, a stall that cost about as much as the
+/// formatting on a small part (`bench/RESULTS.md`).
 fn pair(out: &mut Vec<u8>, [x, y]: [f64; 2]) {
     if !(x.is_finite() && y.is_finite()) {
         out.push(b'[');
