@@ -2,7 +2,7 @@
 (run by bench/compare with the venv's Python, or by hand):
 
     python real.py --wmslice PATH [--wmslice-base PATH] [--layers 2000] \
-        [--runs 3] [--out DIR] [--no-pin] [--snap S] MESH...
+        [--runs 3] [--out DIR] [--no-pin] [--snap S] [--null] MESH...
 
 For each mesh (STL, OBJ, OFF, PLY): the layer height H is the height span
 over LAYERS rounded to four significant digits (a decimal), the planes
@@ -14,6 +14,8 @@ to the highest vertex), given to manifold3d as their nearest doubles.
   write the JSON, fsync); the number paths it reports are kept. With
   `--snap S`, wmslice snaps (real meshes' usual mode) and slices its
   own plan on the snapped mesh; manifold3d keeps the unsnapped plan.
+  With `--null`, also the same command with `-o /dev/null` (everything
+  but the file: manifold3d writes nothing), and its ratio.
 - manifold3d: `Manifold(Mesh(...))` plus `slice(z).to_polygons()` per
   level, timed inside the process (construction plus slicing; reading
   the file with trimesh is not counted).
@@ -124,6 +126,8 @@ def main():
                     help="do not pin each process to one CPU")
     ap.add_argument("--snap", default="",
                     help="run wmslice with --snap S (manifold3d's planes unchanged)")
+    ap.add_argument("--null", action="store_true",
+                    help="also time wmslice writing its JSON to /dev/null")
     ap.add_argument("meshes", nargs="+")
     args = ap.parse_args()
     one_cpu(args.pin)
@@ -175,6 +179,9 @@ def main():
             m = re.search(r"number paths \(loop points\): (.*)", err)
             if m:
                 row["paths"] = m.group(1).strip()
+            if args.null and tool == "wmslice" and times:
+                null_cmd = cmd[:cmd.index("-o") + 1] + ["/dev/null"] + cmd[cmd.index("-o") + 2:]
+                row["null"] = statistics.median(wall(null_cmd)[0] for _ in range(args.runs))
         if len(tools) == 2 and row["wmslice"] and row["base"]:
             same = open(os.path.join(args.out, f"real_wmslice_{name}.json"), "rb").read() == \
                 open(os.path.join(args.out, f"real_base_{name}.json"), "rb").read()
@@ -198,24 +205,34 @@ def main():
         print(json.dumps(row), flush=True)
 
     head = "| mesh | layers | H | wmslice s |" + (" before s |" if len(tools) == 2 else "") + \
-        " manifold3d s | ratio | number paths |"
+        " manifold3d s | ratio |" + (" to /dev/null s | ratio |" if args.null else "") + \
+        " number paths |"
     lines = [head, "|" + "---|" * (head.count("|") - 1)]
     ratios = []
+    null_ratios = []
     for r in rows:
         ratio = r["manifold"] / r["wmslice"] if r.get("manifold") and r["wmslice"] else None
         if ratio:
             ratios.append(ratio)
+        null_ratio = r["manifold"] / r["null"] if r.get("manifold") and r.get("null") else None
+        if null_ratio:
+            null_ratios.append(null_ratio)
         show = lambda v: f"{v:.3f}" if v else "failed"
         cells = [r["mesh"], str(r["layers"]), r["h"], show(r["wmslice"])]
         if len(tools) == 2:
             cells.append(show(r["base"]) + ("" if r.get("identical", True) else " (OUTPUT DIFFERS)"))
         cells += [f"{r['manifold']:.3f}" if r.get("manifold") else "failed",
-                  f"{ratio:.2f}" if ratio else "-", r.get("paths", "")]
+                  f"{ratio:.2f}" if ratio else "-"]
+        if args.null:
+            cells += [show(r.get("null")), f"{null_ratio:.2f}" if null_ratio else "-"]
+        cells.append(r.get("paths", ""))
         lines.append("| " + " | ".join(cells) + " |")
-    if ratios:
-        g = math.exp(sum(math.log(x) for x in ratios) / len(ratios))
-        lines.append("")
-        lines.append(f"Geometric mean of the ratios: {g:.2f} (min {min(ratios):.2f}, max {max(ratios):.2f})")
+    for label, rs in [("", ratios), (" (JSON to /dev/null)", null_ratios)]:
+        if rs:
+            g = math.exp(sum(math.log(x) for x in rs) / len(rs))
+            lines.append("")
+            lines.append(f"Geometric mean of the ratios{label}: {g:.2f} "
+                         f"(min {min(rs):.2f}, max {max(rs):.2f})")
     text = "\n".join(lines)
     print("\n" + text)
     open(os.path.join(args.out, "real.md"), "w").write(text + "\n")
