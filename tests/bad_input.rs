@@ -71,18 +71,25 @@ fn obj(coord: &str, last_face: &str) -> Vec<u8> {
         .into_bytes()
 }
 
-fn zip_bomb_3mf() -> Vec<u8> {
-    let model = format!(
-        r#"<?xml version="1.0" encoding="UTF-8"?>
-<model unit="millimeter" xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02"><resources><object id="1" type="model"><mesh><vertices><vertex x="0" y="0" z="0"/><vertex x="1" y="0" z="0"/><vertex x="0" y="1" z="0"/><vertex x="0" y="0" z="1"/></vertices><triangles><triangle v1="0" v2="2" v3="1"/><triangle v1="0" v2="1" v3="3"/><triangle v1="1" v2="2" v3="3"/><triangle v1="2" v2="0" v3="3"/></triangles></mesh></object></resources><build><item objectid="1"/></build></model>{}"#,
-        " ".repeat(8 << 20)
-    );
+/// A tetrahedron's 3MF model part.
+fn tetra_model_xml() -> String {
+    r#"<?xml version="1.0" encoding="UTF-8"?>
+<model unit="millimeter" xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02"><resources><object id="1" type="model"><mesh><vertices><vertex x="0" y="0" z="0"/><vertex x="1" y="0" z="0"/><vertex x="0" y="1" z="0"/><vertex x="0" y="0" z="1"/></vertices><triangles><triangle v1="0" v2="2" v3="1"/><triangle v1="0" v2="1" v3="3"/><triangle v1="1" v2="2" v3="3"/><triangle v1="2" v2="0" v3="3"/></triangles></mesh></object></resources><build><item objectid="1"/></build></model>"#
+        .to_string()
+}
+
+/// A 3MF package holding `model` as its root model part.
+fn zip_model(model: &str) -> Vec<u8> {
     let mut zw = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
     let options = zip::write::SimpleFileOptions::default()
         .compression_method(zip::CompressionMethod::Deflated);
     zw.start_file("3D/3dmodel.model", options).unwrap();
     zw.write_all(model.as_bytes()).unwrap();
     zw.finish().unwrap().into_inner()
+}
+
+fn zip_bomb_3mf() -> Vec<u8> {
+    zip_model(&(tetra_model_xml() + &" ".repeat(8 << 20)))
 }
 
 /// How a row is run.
@@ -307,6 +314,30 @@ fn rows() -> Vec<Row> {
         ),
         row("3MF zip bomb", "bomb.3mf", zip_bomb_3mf(), s, 4, "looks like a zip bomb"),
         row(
+            "3MF that is no zip archive",
+            "junk.3mf",
+            b"PK\x03\x04 not a zip archive".to_vec(),
+            s,
+            4,
+            "3MF: broken zip archive: invalid Zip archive",
+        ),
+        row(
+            "3MF model part outside its package",
+            "bare.3mf",
+            tetra_model_xml().into_bytes(),
+            s,
+            4,
+            "3MF: parse error: the file is XML, not a zip package",
+        ),
+        row(
+            "3MF with malformed XML",
+            "malformed.3mf",
+            zip_model(&tetra_model_xml().replace("</build>", "</buil")),
+            s,
+            4,
+            "3MF: malformed XML in `3D/3dmodel.model`",
+        ),
+        row(
             "result that is not JSON",
             "not_json.json",
             b"{\"format\": \"wmslice-levelset\", ".to_vec(),
@@ -339,6 +370,28 @@ fn rows() -> Vec<Row> {
             "written without --exact",
         ),
     ]
+}
+
+/// A cause that a message says twice: the text after some `": "` (12
+/// bytes or more) that the message already holds before it, as when an
+/// error's chain of causes is printed after a message that names them.
+fn repeated_cause(message: &str) -> Option<&str> {
+    message.lines().find_map(|line| {
+        line.match_indices(": ").find_map(|(i, _)| {
+            let tail = &line[i + 2..];
+            (tail.len() >= 12 && line[..i].contains(tail)).then_some(tail)
+        })
+    })
+}
+
+#[test]
+fn a_cause_said_twice_is_seen() {
+    let twice = "error: 3MF: broken zip archive: invalid Zip archive: no EOCD: invalid Zip archive: no EOCD";
+    assert_eq!(repeated_cause(twice), Some("invalid Zip archive: no EOCD"));
+    assert_eq!(
+        repeated_cause("error: 3MF: broken zip archive: invalid Zip archive: no EOCD"),
+        None
+    );
 }
 
 fn s(p: &Path) -> &str {
@@ -390,7 +443,9 @@ fn every_defect_class_has_its_exit_code_and_message_and_leaves_no_file() {
             &stderr
         };
         let left = out.exists() || cert.exists();
+        let repeated = repeated_cause(said);
         let ok = code == r.code
+            && repeated.is_none()
             && code != 101
             && said.contains(r.names)
             && (code == 0 || !left)
@@ -398,7 +453,7 @@ fn every_defect_class_has_its_exit_code_and_message_and_leaves_no_file() {
             && (code != 0 || !matches!(r.run, Run::Layers(_)) || out.exists());
         if !ok {
             failures.push(format!(
-                "{}: exit {code} (want {}), output left: {left}, wanted {:?} in:\n{said}",
+                "{}: exit {code} (want {}), output left: {left}, cause said twice: {repeated:?}, wanted {:?} in:\n{said}",
                 r.defect, r.code, r.names
             ));
         }

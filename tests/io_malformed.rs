@@ -821,6 +821,22 @@ fn three_mf_that_is_not_a_zip_is_a_broken_archive() {
     assert!(matches!(err, LoadError::ZipArchive { .. }), "{err:?}");
 }
 
+#[test]
+fn three_mf_model_part_outside_its_package_is_named_as_xml() {
+    let xml = model(&tetra_object(1, "1"), r#"<item objectid="1"/>"#);
+    for bytes in [
+        xml.clone().into_bytes(),
+        format!("\u{feff}\r\n  {xml}").into_bytes(),
+    ] {
+        let err = load_bytes(&bytes, Some(MeshFormat::ThreeMf)).unwrap_err();
+        assert!(
+            matches!(&err, LoadError::Parse { format: MeshFormat::ThreeMf, line: None, message }
+                if message.starts_with("the file is XML, not a zip package")),
+            "{err:?}"
+        );
+    }
+}
+
 // ---------------------------------------------------------------- detection
 
 #[test]

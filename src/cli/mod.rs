@@ -30,7 +30,7 @@ use wmslice::SliceError;
 pub struct Failure {
     /// The exit code.
     pub code: ExitCode,
-    /// The message (with its chain of causes).
+    /// The error; its message already names its causes (see `Display`).
     pub error: anyhow::Error,
 }
 
@@ -51,9 +51,13 @@ pub enum ExitCode {
     Verification = 6,
 }
 
+/// The error's own message only: every error of the library and of this
+/// binary writes its cause's message into its own (`"3MF: broken zip
+/// archive: {source}"`), and keeps the cause as `source()` for programs,
+/// so printing the chain too would say each cause twice.
 impl fmt::Display for Failure {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{:#}", self.error)
+        write!(f, "{}", self.error)
     }
 }
 

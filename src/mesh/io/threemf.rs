@@ -51,6 +51,17 @@ const MODEL_REL_TYPE: &str = "http://schemas.microsoft.com/3dmanufacturing/2013/
 
 /// Reads a 3MF package.
 pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
+    if is_xml(bytes) {
+        // A model part taken out of its package (test suites keep them so):
+        // named as such rather than as a zip archive without a directory.
+        return Err(LoadError::Parse {
+            format: FORMAT,
+            line: None,
+            message: format!(
+                "the file is XML, not a zip package (a 3MF file is a zip package holding the model part `{ROOT_MODEL}`)"
+            ),
+        });
+    }
     let mut archive = zip::ZipArchive::new(Cursor::new(bytes))
         .map_err(|source| LoadError::ZipArchive { source })?;
     let root = root_model_name(&mut archive)?;
@@ -58,6 +69,13 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
     let model = parse_model(&xml, &root)?;
     drop(xml);
     build(&model)
+}
+
+/// Whether `bytes` start as XML does: a `<` first, after an optional UTF-8
+/// byte-order mark and white space (a zip package starts with `PK`).
+fn is_xml(bytes: &[u8]) -> bool {
+    let text = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    text.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'<')
 }
 
 /// The root model part named by `_rels/.rels`, or the default.
