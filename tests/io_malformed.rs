@@ -1,11 +1,14 @@
 //! Input: hand-made files in every format, valid but unusual (binary STL
 //! starting with `solid`, OBJ relative indices and quads, big-endian PLY,
-//! 3MF transforms) or broken (truncated, lying counts, zip bombs, deep XML).
+//! binary OFF in each layout, 3MF transforms) or broken (truncated, lying counts, zip bombs, deep XML).
 //! Output: assertions on the mesh read, the notes, or the exact error variant.
 
 use std::io::Write;
 
-use wmslice::mesh::io::{load, load_bytes, InvalidIndexReason, LoadError, LoadNote, MeshFormat};
+use wmslice::mesh::io::{
+    load, load_bytes, BinaryOffLayout, ByteOrder, FaceColors, InvalidIndexReason, LoadError,
+    LoadNote, MeshFormat,
+};
 use wmslice::mesh::Mesh;
 use wmslice::VertexId;
 
@@ -325,16 +328,175 @@ fn off_last_face_listing_too_few_indices_is_refused() {
     );
 }
 
+// ---------------------------------------------------------------- binary OFF
+
+/// A binary OFF file: the header line, then 32-bit values in `layout`.
+/// `extra` values follow each vertex's `x y z` (the keyword's prefixes);
+/// with per-face color counts, face `i` carries `i % 5` color values.
+fn binary_off(
+    keyword: &str,
+    layout: BinaryOffLayout,
+    pos: &[[f32; 3]],
+    extra: usize,
+    faces: &[&[u32]],
+) -> Vec<u8> {
+    let mut b = format!("{keyword} BINARY\n").into_bytes();
+    let mut put = |w: u32| match layout.byte_order {
+        ByteOrder::Big => b.extend_from_slice(&w.to_be_bytes()),
+        ByteOrder::Little => b.extend_from_slice(&w.to_le_bytes()),
+    };
+    for n in [pos.len(), faces.len(), 0] {
+        put(n as u32);
+    }
+    for p in pos {
+        for c in p {
+            put(c.to_bits());
+        }
+        for e in 0..extra {
+            put((0.25 * e as f32).to_bits());
+        }
+    }
+    for (i, f) in faces.iter().enumerate() {
+        put(f.len() as u32);
+        f.iter().for_each(|&v| put(v));
+        if layout.face_colors == FaceColors::Counted {
+            let colors = (i % 5) as u32;
+            put(colors);
+            (0..colors).for_each(|_| put(0.5f32.to_bits()));
+        }
+    }
+    b
+}
+
+/// A tetrahedron whose coordinates are `f32` values of every magnitude.
+const BIN_TETRA_POS: [[f32; 3]; 4] = [
+    [0.0, -3.5e-38, 1.0e30],
+    [1.25, 0.0, -7.0],
+    [-0.1, 6.5e4, 0.0],
+    [3.0e-45, 2.0, 0.375],
+];
+const BIN_TETRA: [&[u32]; 4] = [&[0, 2, 1], &[0, 1, 3], &[0, 3, 2], &[1, 2, 3]];
+
 #[test]
-fn binary_off_is_unsupported() {
-    let err = load_bytes(b"OFF BINARY\n\0\0\0\x03", Some(MeshFormat::Off)).unwrap_err();
+fn binary_off_reads_in_the_one_layout_that_fits_as_ascii_off_does() {
+    let ascii = {
+        let mut t = String::from("OFF\n4 4 0\n");
+        for p in BIN_TETRA_POS {
+            // The f32 as an f64, in text that reads back as that double.
+            let [x, y, z] = p.map(f64::from);
+            t += &format!("{x} {y} {z}\n");
+        }
+        for f in BIN_TETRA {
+            t += &format!("3 {} {} {}\n", f[0], f[1], f[2]);
+        }
+        load_bytes(t.as_bytes(), Some(MeshFormat::Off)).unwrap().0
+    };
+    let geomview = BinaryOffLayout::ALL[0];
+    let cases = BinaryOffLayout::ALL.iter().map(|&l| ("OFF", l, 0)).chain([
+        ("NOFF", geomview, 3),
+        ("COFF", geomview, 4),
+        ("STOFF", geomview, 2),
+        ("STCNOFF", geomview, 9),
+    ]);
+    for (keyword, layout, extra) in cases {
+        let bytes = binary_off(keyword, layout, &BIN_TETRA_POS, extra, &BIN_TETRA);
+        let (mesh, report) =
+            load_bytes(&bytes, None).unwrap_or_else(|e| panic!("{keyword} {layout}: {e}"));
+        assert_eq!(report.format, MeshFormat::Off);
+        assert_eq!(mesh, ascii, "{keyword} {layout}");
+        assert_eq!(report.notes, vec![LoadNote::BinaryOffLayout(layout)]);
+    }
+}
+
+#[test]
+fn binary_off_polygons_become_fans() {
+    let pos = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.5, 0.5, 1.0],
+    ];
+    let faces: [&[u32]; 5] = [
+        &[0, 3, 2, 1],
+        &[0, 1, 4],
+        &[1, 2, 4],
+        &[2, 3, 4],
+        &[3, 0, 4],
+    ];
+    for layout in BinaryOffLayout::ALL {
+        let (mesh, report) = load_bytes(&binary_off("OFF", layout, &pos, 0, &faces), None).unwrap();
+        assert_eq!(ids(&mesh)[..2], [[0, 3, 2], [0, 2, 1]]);
+        assert_eq!(mesh.faces.len(), 6);
+        assert!(report.notes.contains(&LoadNote::Triangulated {
+            polygons: 1,
+            triangles: 2
+        }));
+    }
+}
+
+fn binary_off_error(bytes: &[u8]) -> String {
+    match load_bytes(bytes, Some(MeshFormat::Off)) {
+        Err(LoadError::Parse {
+            format: MeshFormat::Off,
+            line: None,
+            message,
+        }) => message,
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn binary_off_that_no_layout_reads_to_its_end_is_refused() {
+    let whole = binary_off(
+        "OFF",
+        BinaryOffLayout::ALL[1],
+        &BIN_TETRA_POS,
+        0,
+        &BIN_TETRA,
+    );
+    // One byte short, one byte over, a face of two vertices, and counts
+    // that claim more than the file holds (refused before allocating).
+    let mut over = whole.clone();
+    over.push(b'\n');
+    let mut two = whole.clone();
+    let last_face = whole.len() - 16;
+    two[last_face..last_face + 4].copy_from_slice(&2u32.to_be_bytes());
+    let mut lying = whole.clone();
+    lying[11..15].copy_from_slice(&0x7fff_ffffu32.to_be_bytes());
+    for bytes in [
+        &whole[..whole.len() - 1],
+        &over[..],
+        &two[..],
+        &lying[..],
+        b"OFF BINARY\n\0\0\0\x03",
+    ] {
+        assert!(
+            binary_off_error(bytes).starts_with("binary OFF: no layout"),
+            "{bytes:?}"
+        );
+    }
+}
+
+#[test]
+fn binary_off_without_faces_is_refused_for_it() {
+    let empty = binary_off("OFF", BinaryOffLayout::ALL[0], &[], 0, &[]);
+    assert_eq!(
+        binary_off_error(&empty),
+        "binary OFF: the file declares no faces"
+    );
+}
+
+#[test]
+fn binary_off_negative_index_is_refused() {
+    let faces: [&[u32]; 4] = [&[0, 2, 1], &[0, 1, u32::MAX], &[0, 3, 2], &[1, 2, 3]];
+    let bytes = binary_off("OFF", BinaryOffLayout::ALL[3], &BIN_TETRA_POS, 0, &faces);
+    let err = load_bytes(&bytes, None).unwrap_err();
     assert!(
         matches!(
-            err,
-            LoadError::Unsupported {
-                format: MeshFormat::Off,
-                ..
-            }
+            &err,
+            LoadError::InvalidIndex { format: MeshFormat::Off, text, reason: InvalidIndexReason::Negative, .. }
+                if text == "-1 (face 1)"
         ),
         "{err:?}"
     );

@@ -26,6 +26,7 @@ mod error;
 mod exact_transform;
 mod obj;
 mod off;
+mod off_binary;
 mod ply;
 mod stl;
 mod text;
@@ -37,6 +38,7 @@ use std::io::{self, BufWriter, Write};
 use std::path::Path;
 
 pub use error::{InvalidIndexReason, LoadError, SaveError};
+pub use off_binary::{BinaryOffLayout, ByteOrder, FaceColors};
 
 use super::Mesh;
 use crate::ids::{FaceId, VertexId};
@@ -186,6 +188,8 @@ pub enum LoadNote {
         /// The unit the file names.
         unit: String,
     },
+    /// A binary OFF file, read in the one layout that reads it to its end.
+    BinaryOffLayout(BinaryOffLayout),
 }
 
 impl fmt::Display for LoadNote {
@@ -225,6 +229,10 @@ impl fmt::Display for LoadNote {
             LoadNote::Unit { unit } => write!(
                 f,
                 "the model unit is `{unit}`: coordinates kept as written, not converted to mm"
+            ),
+            LoadNote::BinaryOffLayout(layout) => write!(
+                f,
+                "binary OFF read as {layout} (the one layout that reads the file to its end)"
             ),
         }
     }

@@ -1,5 +1,6 @@
 //! Input: OFF bytes (`OFF`, `COFF`, `NOFF`, `CNOFF`, `STOFF`, ... in 3D,
-//! ASCII). Output: a [`Mesh`], polygons split into fans; and the OFF writer.
+//! ASCII; binary OFF, `OFF BINARY`, is read by `off_binary.rs`). Output: a
+//! [`Mesh`], polygons split into fans; and the OFF writer.
 //!
 //! Hand-written: no maintained crate reads OFF; the format is a header line,
 //! counts, one vertex per line, one face per line.
@@ -94,10 +95,8 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
         .first()
         .is_some_and(|(t, _)| t.eq_ignore_ascii_case(b"BINARY"))
     {
-        return Err(LoadError::Unsupported {
-            format: FORMAT,
-            feature: "binary OFF".to_owned(),
-        });
+        let data = &bytes[line_end_offset(bytes, header_line).min(bytes.len())..];
+        return super::off_binary::read(data, keyword);
     }
     if counts.is_empty() {
         let (n, l) = lines.next().ok_or_else(|| {
