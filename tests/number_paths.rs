@@ -119,3 +119,50 @@ fn verbose_prints_the_number_paths() {
     );
     assert!(!line.contains("grid 0,"), "{line}");
 }
+
+/// The `time (s):` line of a `--verbose` run: the steps in order, each a
+/// finite non-negative number of seconds.
+fn step_times(args: &[&str]) -> Vec<(String, f64)> {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_wmslice"))
+        .args(args)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    let line = err
+        .lines()
+        .find_map(|l| l.strip_prefix("time (s): "))
+        .unwrap_or_else(|| panic!("{err}"));
+    line.split(", ")
+        .map(|step| {
+            let (name, t) = step.rsplit_once(' ').unwrap_or_else(|| panic!("{line}"));
+            let t: f64 = t.parse().unwrap_or_else(|_| panic!("{line}"));
+            assert!(t.is_finite() && t >= 0.0, "{line}");
+            (name.to_owned(), t)
+        })
+        .collect()
+}
+
+#[test]
+fn verbose_prints_the_time_of_each_step() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("cube.svg");
+    let streamed = step_times(&["slice", "unit_cube", "--at", "1/2", "--quiet", "--verbose"]);
+    let kept = step_times(&[
+        "slice",
+        "unit_cube",
+        "--at",
+        "1/2",
+        "--format",
+        "svg",
+        "-o",
+        svg.to_str().unwrap(),
+        "--quiet",
+        "--verbose",
+    ]);
+    for steps in [streamed, kept] {
+        let names: Vec<&str> = steps.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(names, ["reading", "validation", "levels", "output"]);
+    }
+    assert!(svg.exists());
+}

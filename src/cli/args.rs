@@ -227,8 +227,9 @@ pub struct SliceArgs {
     #[arg(long)]
     pub quiet: bool,
     /// After slicing, print to stderr how many loop points took each
-    /// number path (grid, per-edge, certified, wide, big): explains a slow
-    /// run.
+    /// number path (grid, per-edge, certified, wide, big) and the wall
+    /// time of each step (reading, validation, levels, output): explains a
+    /// slow run.
     #[arg(long)]
     pub verbose: bool,
     /// Which loops go to CLI output.

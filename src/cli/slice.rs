@@ -7,6 +7,7 @@ use super::{emit, slice_error, usage, worker_pool, ExitCode, Failure, Tag};
 use anyhow::anyhow;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::{IsTerminal, Write};
+use std::time::{Duration, Instant};
 use wmslice::critical::{
     self,
     fit::{fit_layers, mid_planes},
@@ -158,10 +159,12 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
     let uniform = parse_uniform(&a)?;
     // Welding and validation run on the workers too.
     let (threads, pool) = worker_pool(a.threads)?;
+    let mut steps = Steps::start();
     let loading = step("reading and welding the mesh", a.quiet);
     let input = pool.install(|| load_input(&a.mesh, a.snap.as_deref()));
     loading.finish_and_clear();
     let input = input?;
+    steps.mark("reading");
     if !a.quiet {
         for n in &input.notes {
             eprintln!("note: {n}");
@@ -214,6 +217,7 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
         }
     };
     validating.finish_and_clear();
+    steps.mark("validation");
     let bar = progress(levels.len(), a.quiet);
     let ex = if a.exact {
         Exactness::WithExact
@@ -248,8 +252,11 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
             }
         };
         bar.finish_and_clear();
+        steps.mark("levels");
         sink.close().map_err(output_error)?;
+        steps.mark("output");
         report_paths(&a);
+        steps.report(a.verbose);
         return Ok(());
     }
     let mut sets: Vec<LevelSet> = Vec::with_capacity(levels.len());
@@ -261,7 +268,25 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
     })
     .map_err(sweep_error)?;
     bar.finish_and_clear();
+    steps.mark("levels");
     report_paths(&a);
+    let written = write_sets(&a, &input, &slicer, &header, &levels, &sets, ex);
+    steps.mark("output");
+    steps.report(a.verbose);
+    written
+}
+
+/// Writes the level sets kept in memory: a rendered format, or the whole
+/// JSON or summary text with its certificate.
+fn write_sets(
+    a: &SliceArgs,
+    input: &Input,
+    slicer: &Slicer<'_>,
+    header: &MeshHeader,
+    levels: &[Rat],
+    sets: &[LevelSet],
+    ex: Exactness,
+) -> Result<(), Failure> {
     let text = match a.format {
         Format::Svg | Format::Html | Format::Cli | Format::CliBinary => {
             if a.certificate.is_some() {
@@ -272,21 +297,21 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
             }
             // The viewer lists the critical heights beside the slider.
             let report = match a.format {
-                Format::Html => Some(critical::analyze(&slicer).map_err(|e| Failure {
+                Format::Html => Some(critical::analyze(slicer).map_err(|e| Failure {
                     code: ExitCode::Internal,
                     error: e.into(),
                 })?),
                 _ => None,
             };
-            return super::render::write(&a, &input, &sets, report.as_ref());
+            return super::render::write(a, input, sets, report.as_ref());
         }
-        Format::Json => to_json(&header, &sets, ex),
+        Format::Json => to_json(header, sets, ex),
         Format::Summary => sets.iter().map(summary).collect::<Vec<_>>().join("\n") + "\n",
     };
     emit(a.output.as_deref(), &text)?;
     // After the result, so a failed write leaves no certificate.
     match &a.certificate {
-        Some(path) => super::certificate::write(path, &a, &input, &levels, &sets, text.as_bytes()),
+        Some(path) => super::certificate::write(path, a, input, levels, sets, text.as_bytes()),
         None => Ok(()),
     }
 }
@@ -323,6 +348,45 @@ fn fitted_levels(
     let mut levels = explicit.to_vec();
     levels.extend(mid_planes(&layers));
     plan_levels(None, &levels, z_range).map_err(|e| usage(e.to_string()))
+}
+
+/// The wall time of each step of a run, printed with `--verbose` so that a
+/// slow run can be explained: reading (and welding, snapping), validation
+/// (with the topology, the mesh's hash and the faces filed under the
+/// levels, and with `--fit-critical` the critical heights), the levels
+/// (slicing them, and when streamed their text and its writing), and the
+/// output (finishing the file: `fsync` and rename; or, for output kept in
+/// memory, writing it whole).
+struct Steps {
+    last: Instant,
+    done: Vec<(&'static str, Duration)>,
+}
+
+impl Steps {
+    fn start() -> Self {
+        Steps {
+            last: Instant::now(),
+            done: Vec::new(),
+        }
+    }
+
+    /// Ends step `name` now.
+    fn mark(&mut self, name: &'static str) {
+        let now = Instant::now();
+        self.done.push((name, now - self.last));
+        self.last = now;
+    }
+
+    fn report(&self, verbose: bool) {
+        if verbose {
+            let text: Vec<String> = self
+                .done
+                .iter()
+                .map(|(name, t)| format!("{name} {:.3}", t.as_secs_f64()))
+                .collect();
+            eprintln!("time (s): {}", text.join(", "));
+        }
+    }
 }
 
 /// With `--verbose`: how many loop points took each number path.
