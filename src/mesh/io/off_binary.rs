@@ -14,7 +14,8 @@
 //! follow, every face must have at least three vertices and at most four
 //! color values, and the walk must end exactly at the end of the file. A
 //! file is read when exactly one layout passes, refused by name when none
-//! or several do: never guessed.
+//! or several do: never guessed. Hand-written, like the ASCII reader: no
+//! maintained crate reads binary OFF.
 
 use super::text::FaceSink;
 use super::{InvalidIndexReason, LoadError, LoadNote, LoadReport, MeshFormat, MAX_ELEMENTS};
@@ -237,9 +238,9 @@ pub(super) fn read(data: &[u8], keyword: &[u8]) -> Result<(Mesh, LoadReport), Lo
         }
     }
     if !fits.is_empty() && fits.iter().all(|&(_, (_, nf))| nf == 0) {
-        // Every file with no faces reads in every layout whose vertex count
-        // fits (the zero counts, and a count whose bytes read the same both
-        // ways, 0x01000001 and up): refused for what it lacks.
+        // A file with no faces reads alike with and without color counts
+        // (and in both byte orders when its counts read the same both
+        // ways, as zero does): refused for what it lacks, not as ambiguous.
         return Err(parse_err(
             "binary OFF: the file declares no faces".to_owned(),
         ));
