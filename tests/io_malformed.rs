@@ -999,6 +999,71 @@ fn three_mf_model_part_outside_its_package_is_named_as_xml() {
     }
 }
 
+// ---------------------------------------------------------------- UTF-16
+
+/// `text` as UTF-16 with its byte-order mark, big- or little-endian.
+fn utf16(text: &str, big: bool) -> Vec<u8> {
+    let units = std::iter::once(0xFEFF).chain(text.encode_utf16());
+    units
+        .flat_map(|u| {
+            if big {
+                u.to_be_bytes()
+            } else {
+                u.to_le_bytes()
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn utf16_text_is_named_as_such_in_every_text_format() {
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    let off = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    let stl = "solid t\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n";
+    let ply = "ply\nformat ascii 1.0\nelement vertex 0\nelement face 0\nend_header\n";
+    let cases = [
+        (obj, MeshFormat::Obj),
+        (off, MeshFormat::Off),
+        (stl, MeshFormat::StlAscii),
+        (ply, MeshFormat::PlyAscii),
+    ];
+    for (text, format) in cases {
+        // Read as UTF-8, the same text loads (or, for the empty PLY, fails
+        // for another reason).
+        let plain = load_bytes(text.as_bytes(), Some(format));
+        assert!(
+            !matches!(&plain, Err(LoadError::Parse { message, .. }) if message.contains("UTF-16"))
+        );
+        for big in [true, false] {
+            let err = load_bytes(&utf16(text, big), Some(format)).unwrap_err();
+            assert!(
+                matches!(&err, LoadError::Parse { line: Some(1), message, .. }
+                    if message.starts_with("the file is UTF-16 text")),
+                "{format:?} {big}: {err:?}"
+            );
+        }
+    }
+    // A binary STL's header may start with the same two bytes: read as
+    // binary when its size is a binary STL's, or when the text after them
+    // is not `solid` in UTF-16 (bytes after the triangles are a note).
+    let utf16_solid = binary_stl(b"\xFF\xFEs\0o\0l\0i\0d\0", &TWO_TRIANGLES);
+    let mut bytes_solid = binary_stl(b"\xFF\xFEsolid", &TWO_TRIANGLES);
+    bytes_solid.push(0);
+    for bytes in [&utf16_solid, &bytes_solid] {
+        for hint in [MeshFormat::StlBinary, MeshFormat::StlAscii] {
+            let (mesh, _) = load_bytes(bytes, Some(hint)).unwrap();
+            assert_eq!(mesh.faces.len(), 2);
+        }
+    }
+    let mut longer = utf16_solid.clone();
+    longer.push(0);
+    let err = load_bytes(&longer, Some(MeshFormat::StlBinary)).unwrap_err();
+    assert!(
+        matches!(&err, LoadError::Parse { message, .. } if message.contains("UTF-16")),
+        "{err:?}"
+    );
+}
+
 // ---------------------------------------------------------------- detection
 
 #[test]

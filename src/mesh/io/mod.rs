@@ -324,6 +324,9 @@ pub fn load_bytes(bytes: &[u8], hint: Option<MeshFormat>) -> Result<(Mesh, LoadR
         Some(f) => f,
         None => detect_format(bytes).ok_or(LoadError::UnknownFormat { extension: None })?,
     };
+    if let Some(e) = utf16_text(format, bytes) {
+        return Err(e);
+    }
     match format {
         MeshFormat::StlBinary | MeshFormat::StlAscii => stl::read(bytes),
         MeshFormat::Obj => obj::read(bytes),
@@ -333,6 +336,44 @@ pub fn load_bytes(bytes: &[u8], hint: Option<MeshFormat>) -> Result<(Mesh, LoadR
         | MeshFormat::PlyBinaryBigEndian => ply::read(bytes),
         MeshFormat::ThreeMf => threemf::read(bytes),
     }
+}
+
+/// A text format's file that starts with a UTF-16 byte-order mark (as
+/// some Windows tools save text): named as such, where the readers of
+/// bytes would report some later token as malformed. An STL only when its
+/// size is not a binary STL's and its UTF-16 text starts with `solid`: a
+/// binary STL's 80-byte header may start with any bytes.
+fn utf16_text(format: MeshFormat, bytes: &[u8]) -> Option<LoadError> {
+    let big = match bytes {
+        [0xFE, 0xFF, ..] => true,
+        [0xFF, 0xFE, ..] => false,
+        _ => return None,
+    };
+    let text = match format {
+        MeshFormat::ThreeMf => false,
+        MeshFormat::StlBinary | MeshFormat::StlAscii if stl::binary_size_matches(bytes) => false,
+        MeshFormat::StlBinary | MeshFormat::StlAscii => {
+            let units = bytes[2..].chunks_exact(2).take(5).map(|u| {
+                let u = [u[0], u[1]];
+                if big {
+                    u16::from_be_bytes(u)
+                } else {
+                    u16::from_le_bytes(u)
+                }
+            });
+            units
+                .map(|u| u8::try_from(u).unwrap_or(0).to_ascii_lowercase())
+                .eq(*b"solid")
+        }
+        _ => true,
+    };
+    text.then(|| LoadError::Parse {
+        format,
+        line: Some(1),
+        message: "the file is UTF-16 text (it starts with a UTF-16 byte-order mark): \
+                  save it as UTF-8 or ASCII"
+            .to_owned(),
+    })
 }
 
 /// Recognizes a format by content alone: the zip signature (3MF), `ply`,
