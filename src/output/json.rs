@@ -449,6 +449,8 @@ mod tests {
             f64::MAX,
             f64::INFINITY,
             f64::NAN,
+            // Where the shortest text switches between plain digits and
+            // an exponent (sample values of the output, not tolerances).
             1e16,
             1e-7,
         ]);
