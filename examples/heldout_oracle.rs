@@ -39,14 +39,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let name = std::path::Path::new(path)
             .file_name()
             .map_or(path.clone(), |n| n.to_string_lossy().into_owned());
-        let mesh = match wmslice::mesh::io::load(std::path::Path::new(path)) {
-            Ok((mesh, _)) => mesh,
+        let (mesh, exact) = match wmslice::mesh::io::load_exact(std::path::Path::new(path)) {
+            Ok((mesh, _, exact)) => (mesh, exact),
             Err(e) => {
                 println!("unread    {name}: {e}");
                 continue;
             }
         };
-        let mesh = match wmslice::mesh::prepare::prepare(mesh, snap.as_ref()) {
+        let mesh = match wmslice::mesh::prepare::prepare_exact(mesh, &exact, snap.as_ref()) {
             Ok(p) => p.mesh,
             Err(e) => {
                 println!("unsnapped {name}: {e}");

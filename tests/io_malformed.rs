@@ -5,10 +5,12 @@
 
 use std::io::Write;
 
+use wmslice::exact::rational::Rat;
 use wmslice::mesh::io::{
-    load, load_bytes, BinaryOffLayout, ByteOrder, FaceColors, InvalidIndexReason, LoadError,
-    LoadNote, MeshFormat,
+    load, load_bytes, load_bytes_exact, BinaryOffLayout, ByteOrder, FaceColors, InvalidIndexReason,
+    LoadError, LoadNote, MeshFormat,
 };
+use wmslice::mesh::prepare::{prepare, prepare_exact, PrepareError};
 use wmslice::mesh::Mesh;
 use wmslice::VertexId;
 
@@ -865,6 +867,57 @@ fn three_mf_transform_that_would_round_is_refused() {
         ),
         "{err:?}"
     );
+}
+
+/// The exact image kept beside the mesh: `load_bytes` refuses it, and
+/// snapping places it from its exact value, which its nearest double
+/// would not. `2^-60 + 0.5` is not a double (61 bits), and its nearest
+/// double is `0.5`: on the grid 1 that is a tie, which goes to the even
+/// 0, while the exact image is past the half and goes to 1.
+#[test]
+fn three_mf_transform_that_rounds_is_snapped_from_the_exact_image() {
+    let tiny = 2f64.powi(-60);
+    let xml = model(
+        &tetra_object(1, &tiny.to_string()),
+        r#"<item objectid="1" transform="1 0 0 0 1 0 0 0 1 0.5 0 0"/>"#,
+    );
+    let bytes = three_mf(&xml);
+    assert!(matches!(
+        load_bytes(&bytes, None),
+        Err(LoadError::InexactTransform {
+            item: 0,
+            object: 1,
+            vertex: 1
+        })
+    ));
+    let (mesh, _, exact) = load_bytes_exact(&bytes, None).unwrap();
+    // Only vertex 1, (0.5 + 2^-60, 0, 0), has no exact double; the mesh
+    // holds its nearest one.
+    let r = |x: f64| Rat::from_float(x).unwrap();
+    let kept: Vec<_> = exact.iter().cloned().collect();
+    assert_eq!(
+        kept,
+        vec![(VertexId(1), [r(0.5) + r(tiny), r(0.0), r(0.0)])]
+    );
+    assert_eq!(mesh.positions[1], [0.5, 0.0, 0.0]);
+    // Without a grid there is no exact place for it.
+    assert!(matches!(
+        prepare_exact(mesh.clone(), &exact, None),
+        Err(PrepareError::NotDoubles(LoadError::InexactTransform {
+            vertex: 1,
+            ..
+        }))
+    ));
+    let one = Rat::from_integer(1.into());
+    // (0.5, 0, 0) -> 0 (a tie, to even); (0.5 + 2^-60, 0, 0) -> 1;
+    // (0.5, 2^-60, 0) and (0.5, 0, 2^-60) -> the origin.
+    let p = prepare_exact(mesh.clone(), &exact, Some(&one)).unwrap();
+    assert_eq!(p.mesh.positions, vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]);
+    assert_eq!(p.snap.as_ref().unwrap().merged, 2);
+    assert_eq!(p.snap.unwrap().max_move, r(0.5));
+    // The nearest doubles alone would put every vertex on the origin.
+    let doubles = prepare(mesh, Some(&one)).unwrap();
+    assert_eq!(doubles.mesh.positions, vec![[0.0, 0.0, 0.0]]);
 }
 
 #[test]

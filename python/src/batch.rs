@@ -21,8 +21,8 @@ use std::path::{Path, PathBuf};
 use wmslice::exact::rational::Rat;
 use wmslice::layers::{height_range, plan_levels, slice_levels_then, LayerPlan, SweepError};
 use wmslice::levelset::LevelSet;
-use wmslice::mesh::io::{load_bytes, read_file, LoadError, MeshFormat};
-use wmslice::mesh::prepare::{prepare, Prepared};
+use wmslice::mesh::io::{load_bytes_exact, read_file, LoadError, MeshFormat};
+use wmslice::mesh::prepare::{prepare_exact, PrepareError, Prepared};
 use wmslice::output::atomic::AtomicFile;
 use wmslice::output::certificate::{
     sha256_hex, Certificate, CertificateError, InputPart, LevelPart, Numeric, Options, ResultPart,
@@ -132,8 +132,12 @@ fn read_part(path: &Path, snap: Option<&Rat>) -> Result<Part, PartError> {
         .extension()
         .and_then(|e| e.to_str())
         .and_then(MeshFormat::from_extension);
-    let (mesh, _) = load_bytes(&bytes, hint).map_err(|e| PartError::Load(name.clone(), e))?;
-    let prepared = prepare(mesh, snap).map_err(PartError::Snap)?;
+    let (mesh, _, exact) =
+        load_bytes_exact(&bytes, hint).map_err(|e| PartError::Load(name.clone(), e))?;
+    let prepared = prepare_exact(mesh, &exact, snap).map_err(|e| match e {
+        PrepareError::NotDoubles(e) => PartError::Load(name.clone(), e),
+        PrepareError::Snap(e) => PartError::Snap(e),
+    })?;
     Ok(Part {
         name,
         bytes,

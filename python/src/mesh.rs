@@ -19,7 +19,8 @@ use wmslice::critical::{self, fit::PlanReport};
 use wmslice::exact::rational::{rat_to_f64, rat_to_string, Rat};
 use wmslice::layers::{height_range, plan_levels, slice_levels_then, LayerPlan};
 use wmslice::levelset::LevelSet;
-use wmslice::mesh::io::{load_bytes, read_file, MeshFormat};
+use wmslice::mesh::io::{load_bytes_exact, read_file, MeshFormat};
+use wmslice::mesh::prepare::{prepare_exact, PrepareError};
 use wmslice::mesh::validate::Severity;
 use wmslice::output::critical::critical_json;
 use wmslice::{datasets as builtin, Mesh as RawMesh};
@@ -624,7 +625,7 @@ pub fn load(
 ) -> PyResult<Mesh> {
     let q = snap_of(snap)?;
     let shown = path.display().to_string();
-    let (mesh, _) = py
+    let (mesh, exact) = py
         .detach(|| -> Result<_, wmslice::mesh::io::LoadError> {
             let bytes = read_file(&path).map_err(|source| wmslice::mesh::io::LoadError::Io {
                 path: path.clone(),
@@ -634,10 +635,23 @@ pub fn load(
                 .extension()
                 .and_then(|e| e.to_str())
                 .and_then(MeshFormat::from_extension);
-            load_bytes(&bytes, hint)
+            load_bytes_exact(&bytes, hint).map(|(mesh, _, exact)| (mesh, exact))
         })
         .map_err(|e| load_error(&shown, e))?;
-    ready(py, mesh, q)
+    // A 3MF vertex whose transformed position is not a double is placed
+    // only by the grid; without one it is the file's error.
+    let p = py
+        .detach(|| prepare_exact(mesh, &exact, q.as_ref()))
+        .map_err(|e| match e {
+            PrepareError::NotDoubles(e) => load_error(&shown, e),
+            PrepareError::Snap(e) => snap_error(py, e),
+        })?;
+    let core = py
+        .detach(move || MeshCore::prepared(p.mesh, p.unit, p.snap, p.flips))
+        .map_err(|e| core_error(py, e))?;
+    Ok(Mesh {
+        core: Arc::new(core),
+    })
 }
 
 /// A built-in dataset (the paper's meshes, built exactly), by name.

@@ -142,6 +142,39 @@ def test_files_every_format_and_errors(cli, scratch):
         wmslice.dataset("no_such_dataset")
 
 
+def test_a_3mf_placed_by_a_rounding_transform_loads_only_on_a_grid(cli, scratch):
+    """The unit cube at decimal offsets, placed by a build item's
+    translation: 0.1 + 125 is not a double, so the file is refused without
+    a grid and snapped from the exact image on one, as the CLI does."""
+    import zipfile
+
+    v, f = unit_cube()
+    vertices = "".join(
+        f'<vertex x="{float(x) / 10 + 0.1!r}" y="{y:g}" z="{z:g}"/>' for x, y, z in v
+    )
+    triangles = "".join(f'<triangle v1="{a}" v2="{b}" v3="{c}"/>' for a, b, c in f)
+    xml = (
+        '<?xml version="1.0" encoding="UTF-8"?><model unit="millimeter" '
+        'xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02"><resources>'
+        f'<object id="1" type="model"><mesh><vertices>{vertices}</vertices>'
+        f"<triangles>{triangles}</triangles></mesh></object></resources>"
+        '<build><item objectid="1" transform="1 0 0 0 1 0 0 0 1 125 0 0"/></build></model>'
+    )
+    path = scratch / "placed.3mf"
+    with zipfile.ZipFile(path, "w") as z:
+        z.writestr("3D/3dmodel.model", xml)
+    with pytest.raises(ValueError, match="snap to a grid"):
+        wmslice.load(path)
+    m = wmslice.load(path, snap="1/100")
+    # x in {125.1, 125.2}: the grid points 12510 and 12520 exactly; the
+    # diagonals of the faces y = 0 and y = 1 cross z = 1/2 halfway.
+    ls = m.slice("1/2", exact=True)
+    xs = {float(x) for x, _ in ls.contours[0].points}
+    assert xs == {125.1, 125.15, 125.2}
+    expected = cli("slice", str(path), "--snap", "1/100", "--at", "1/2", "--format", "json", "--exact")
+    assert ls.to_json().encode() == expected
+
+
 def test_snap_moves_to_the_grid_and_is_reported():
     v, f = unit_cube()
     v = v * np.float32(0.6)  # 0.6 as a float32 times the corners: not multiples of 1/10

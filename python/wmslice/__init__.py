@@ -468,7 +468,10 @@ def load(path, snap=None) -> Mesh:
     the command line reads), snaps it to ``snap`` when given, removes
     degenerate faces and validates it. ``OSError`` when the file cannot be
     read, ``ValueError`` when it cannot be parsed, :class:`InvalidMesh` when
-    it is not accepted."""
+    it is not accepted. A 3MF vertex whose transformed position is not a
+    double (an object a slicer placed on its bed) has no exact place
+    without a grid: ``ValueError``; with ``snap`` it is snapped from its
+    exact image."""
     return Mesh._wrap(_native.load(path, snap))
 
 

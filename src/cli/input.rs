@@ -13,8 +13,8 @@ use wmslice::datasets;
 use wmslice::exact::parse_rational;
 use wmslice::exact::rational::{rat_to_f64, rat_to_string, Rat};
 use wmslice::mesh::flip::Flip;
-use wmslice::mesh::io::{load_bytes, MeshFormat};
-use wmslice::mesh::prepare::{prepare, SnapStats};
+use wmslice::mesh::io::{load_bytes_exact, ExactPositions, MeshFormat};
+use wmslice::mesh::prepare::{prepare_exact, PrepareError, SnapStats};
 use wmslice::Mesh;
 
 /// A mesh as given on the command line: a file, or a built-in dataset.
@@ -59,7 +59,10 @@ pub fn load_input(spec: &str, snap_arg: Option<&str>) -> Result<Input, Failure> 
     let path = Path::new(spec);
     let mut notes = Vec::new();
     let mut file_bytes = Vec::new();
-    let mesh = if path.exists() {
+    let q = snap_arg
+        .map(|q| parse_rational(q).tag(ExitCode::Usage))
+        .transpose()?;
+    let (mesh, exact) = if path.exists() {
         file_bytes = wmslice::mesh::io::read_file(path)
             .map_err(|e| anyhow!("cannot read {spec}: {e}"))
             .tag(ExitCode::Input)?;
@@ -67,23 +70,35 @@ pub fn load_input(spec: &str, snap_arg: Option<&str>) -> Result<Input, Failure> 
             .extension()
             .and_then(|e| e.to_str())
             .and_then(MeshFormat::from_extension);
-        let (mesh, report) = load_bytes(&file_bytes, hint).tag(ExitCode::Input)?;
+        let (mesh, report, exact) = load_bytes_exact(&file_bytes, hint).tag(ExitCode::Input)?;
         notes.push(format!("read {} as {}", spec, report.format));
         notes.extend(report.notes.iter().map(|n| n.to_string()));
-        mesh
+        if !exact.is_empty() {
+            notes.push(format!(
+                "{} vertices placed by a transform have no exact double: snapped from their exact positions",
+                exact.len()
+            ));
+        }
+        (mesh, exact)
     } else if let Some(d) = datasets::by_name(spec) {
         notes.push(format!("built-in dataset {}", d.name));
-        d.build()
+        (d.build(), ExactPositions::default())
     } else {
         return Err(Failure {
             code: ExitCode::Input,
             error: anyhow!("no such file or built-in dataset: {spec} (see `wmslice gen --list`)"),
         });
     };
-    let q = snap_arg
-        .map(|q| parse_rational(q).tag(ExitCode::Usage))
-        .transpose()?;
-    let p = prepare(mesh, q.as_ref()).tag(ExitCode::InvalidMesh)?;
+    let p = prepare_exact(mesh, &exact, q.as_ref()).map_err(|e| match e {
+        PrepareError::NotDoubles(e) => Failure {
+            code: ExitCode::Input,
+            error: e.into(),
+        },
+        PrepareError::Snap(e) => Failure {
+            code: ExitCode::InvalidMesh,
+            error: e.into(),
+        },
+    })?;
     if let Some(s) = &p.snap {
         notes.push(format!(
             "snapped to grid {}: {} vertices moved, largest coordinate move {} (~{}), {} vertices merged",

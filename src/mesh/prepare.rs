@@ -10,7 +10,8 @@
 
 use crate::exact::rational::Rat;
 use crate::mesh::flip::{repair_degenerate, Flip};
-use crate::mesh::snap::{snap, SnapError};
+use crate::mesh::io::{ExactPositions, LoadError};
+use crate::mesh::snap::{snap_exact, SnapError};
 use crate::mesh::Mesh;
 use std::borrow::Cow;
 
@@ -47,29 +48,66 @@ pub struct Prepared {
 /// validation to name its defects; snapping refuses a non-finite
 /// coordinate itself.
 pub fn prepare(mesh: Mesh, q: Option<&Rat>) -> Result<Prepared, SnapError> {
-    let (mesh, unit, stats) = match q {
-        None => (mesh, None, None),
-        Some(q) => {
-            let s = snap(&mesh, q)?;
-            let stats = SnapStats {
-                grid: s.unit.clone(),
-                moved: s.moved,
-                max_move: s.max_move,
-                merged: s.merged,
-            };
-            (s.mesh, Some(s.unit), Some(stats))
-        }
+    match q {
+        None => Ok(repair(mesh, None, None)),
+        Some(q) => on_grid(mesh, &ExactPositions::default(), q),
+    }
+}
+
+/// Why a mesh read with its exact positions could not be prepared.
+#[derive(Debug, thiserror::Error)]
+pub enum PrepareError {
+    /// Some vertex's exact position is not a double, and no grid was given
+    /// to place it (the file's own error, naming the vertex).
+    #[error(transparent)]
+    NotDoubles(LoadError),
+    /// Snapping failed.
+    #[error(transparent)]
+    Snap(#[from] SnapError),
+}
+
+/// As [`prepare`], for a mesh read with
+/// [`crate::mesh::io::load_bytes_exact`]: on the grid `q` the vertices in
+/// `exact` are snapped from their exact positions; without a grid they
+/// have no exact place and the mesh is refused.
+pub fn prepare_exact(
+    mesh: Mesh,
+    exact: &ExactPositions,
+    q: Option<&Rat>,
+) -> Result<Prepared, PrepareError> {
+    match (q, exact.refusal()) {
+        (Some(q), _) => Ok(on_grid(mesh, exact, q)?),
+        (None, None) => Ok(repair(mesh, None, None)),
+        (None, Some(e)) => Err(PrepareError::NotDoubles(e)),
+    }
+}
+
+/// Snaps to `q` (the vertices in `exact` from their exact positions), then
+/// repairs.
+fn on_grid(mesh: Mesh, exact: &ExactPositions, q: &Rat) -> Result<Prepared, SnapError> {
+    let s = snap_exact(&mesh, exact, q)?;
+    drop(mesh);
+    let stats = SnapStats {
+        grid: s.unit.clone(),
+        moved: s.moved,
+        max_move: s.max_move,
+        merged: s.merged,
     };
+    Ok(repair(s.mesh, Some(s.unit), Some(stats)))
+}
+
+/// Removes the degenerate faces edge flips can remove.
+fn repair(mesh: Mesh, unit: Option<Rat>, snap: Option<SnapStats>) -> Prepared {
     let r = repair_degenerate(&mesh);
     let flips = r.flips;
     let repaired = match r.mesh {
         Cow::Owned(m) => Some(m),
         Cow::Borrowed(_) => None,
     };
-    Ok(Prepared {
+    Prepared {
         mesh: repaired.unwrap_or(mesh),
         unit,
-        snap: stats,
+        snap,
         flips,
-    })
+    }
 }

@@ -9,6 +9,7 @@
 use crate::exact::level::shl;
 use crate::exact::rational::{decompose, rat_from_f64, rat_to_f64, rat_to_string, Rat};
 use crate::ids::VertexId;
+use crate::mesh::io::ExactPositions;
 use crate::mesh::weld::{weld_points, MAX_ELEMENTS};
 use crate::mesh::Mesh;
 use num_bigint::BigInt;
@@ -75,8 +76,12 @@ fn round_half_even(r: &Rat) -> BigInt {
 /// `x / q` rounded to the nearest integer `n` (ties to even), and the
 /// move `|x - n q|`, in big rationals: any `x`, any `q > 0`.
 fn index_rational(x: f64, q: &Rat) -> (BigInt, Rat) {
-    let x = rat_from_f64(x);
-    let n = round_half_even(&(&x / q));
+    index_of(&rat_from_f64(x), q)
+}
+
+/// As [`index_rational`], for any rational `x`.
+fn index_of(x: &Rat, q: &Rat) -> (BigInt, Rat) {
+    let n = round_half_even(&(x / q));
     let delta = (Rat::from_integer(n.clone()) * q - x).abs();
     (n, delta)
 }
@@ -114,6 +119,14 @@ fn index_i128(x: f64, (a, b): (i128, i128)) -> Option<(i128, i128, i128)> {
     } else {
         (floor, r, den)
     })
+}
+
+/// A grid index as the double that holds it exactly; `None` beyond 2^53
+/// steps, where a double cannot (refused by name, not a tolerance).
+fn grid_index(n: Option<i64>) -> Option<f64> {
+    // |n| <= 2^53: exact as a double; +0.0 for zero.
+    n.filter(|n| n.abs() <= MAX_GRID_INDEX)
+        .map(|n| n as f64 + 0.0)
 }
 
 /// The largest move so far, exact, with its nearest double to skip the
@@ -157,6 +170,13 @@ impl LargestMove {
 /// fit (every decimal grid and ordinary coordinates), else in big
 /// rationals; the same result either way.
 pub fn snap(mesh: &Mesh, q: &Rat) -> Result<Snapped, SnapError> {
+    snap_exact(mesh, &ExactPositions::default(), q)
+}
+
+/// As [`snap`], where the vertices in `exact` are snapped from their exact
+/// positions (a 3MF transform's image that is not a double), not from the
+/// doubles the mesh holds for them.
+pub fn snap_exact(mesh: &Mesh, exact: &ExactPositions, q: &Rat) -> Result<Snapped, SnapError> {
     if !q.is_positive() {
         return Err(SnapError::NonPositive(rat_to_string(q)));
     }
@@ -168,10 +188,27 @@ pub fn snap(mesh: &Mesh, q: &Rat) -> Result<Snapped, SnapError> {
         exact: Rat::zero(),
         approx: 0.0,
     };
+    let mut exact = exact.iter().peekable();
     for (v, p) in mesh.positions.iter().enumerate() {
         let vid = VertexId::from_idx(v);
         let mut out = [0.0f64; 3];
         let mut changed = false;
+        if let Some((_, x)) = exact.next_if(|(id, _)| *id == vid) {
+            for (slot, x) in out.iter_mut().zip(x) {
+                let (n, delta) = index_of(x, q);
+                if !delta.is_zero() {
+                    changed = true;
+                    largest.offer(delta);
+                }
+                *slot = grid_index(n.to_i64()).ok_or_else(|| SnapError::OutOfRange {
+                    vertex: vid,
+                    q: rat_to_string(q),
+                })?;
+            }
+            moved += changed as usize;
+            snapped.push(out);
+            continue;
+        }
         for k in 0..3 {
             if !p[k].is_finite() {
                 return Err(SnapError::NonFinite(vid));
@@ -197,13 +234,7 @@ pub fn snap(mesh: &Mesh, q: &Rat) -> Result<Snapped, SnapError> {
                     n.to_i64()
                 }
             };
-            // Beyond 2^53 steps a double cannot hold the index: refused
-            // by name (not a tolerance).
-            let n64 = n64
-                .filter(|n| n.abs() <= MAX_GRID_INDEX)
-                .ok_or_else(out_of_range)?;
-            // |n| <= 2^53: exact as a double; +0.0 for zero.
-            out[k] = n64 as f64 + 0.0;
+            out[k] = grid_index(n64).ok_or_else(out_of_range)?;
         }
         moved += changed as usize;
         snapped.push(out);
@@ -311,6 +342,36 @@ mod tests {
                 }
                 (Err(SnapError::OutOfRange { .. }), None) => {}
                 (got, want) => proptest::prop_assert!(false, "{:?} against {:?}", got.map(|s| s.max_move), want.map(|w| w.1)),
+            }
+        }
+    }
+
+    proptest::proptest! {
+        /// A vertex given by its exact position snaps as the double with
+        /// that value does (the `i128` path and the rational one agree),
+        /// whichever vertices are given so.
+        #[test]
+        fn an_exact_position_equal_to_its_double_snaps_the_same(
+            xs in proptest::collection::vec(coordinate(), 6..30),
+            given in proptest::collection::vec(proptest::bool::ANY, 10),
+            q in grid(),
+        ) {
+            let positions: Vec<[f64; 3]> = xs.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+            let m = Mesh::from_raw(positions.clone(), vec![]);
+            let mut exact = ExactPositions::default();
+            for (v, p) in positions.iter().enumerate() {
+                if given[v] {
+                    exact.push_for_test(VertexId::from_idx(v), p.map(rat_from_f64));
+                }
+            }
+            match (snap(&m, &q), snap_exact(&m, &exact, &q)) {
+                (Ok(a), Ok(b)) => {
+                    proptest::prop_assert_eq!(a.mesh.positions, b.mesh.positions);
+                    proptest::prop_assert_eq!(a.max_move, b.max_move);
+                    proptest::prop_assert_eq!((a.moved, a.merged), (b.moved, b.merged));
+                }
+                (Err(a), Err(b)) => proptest::prop_assert_eq!(a, b),
+                (a, b) => proptest::prop_assert!(false, "{:?} against {:?}", a.map(|s| s.moved), b.map(|s| s.moved)),
             }
         }
     }

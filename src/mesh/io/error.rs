@@ -259,8 +259,9 @@ pub enum LoadError {
         text: String,
     },
     /// Applying a transform would round a coordinate: the exact image of a
-    /// vertex is not a binary64 number.
-    #[error("3MF: build item {item}, object {object}, vertex {vertex}: the transformed coordinate is not exactly representable as f64")]
+    /// vertex is not a binary64 number. Without a grid such a vertex has no
+    /// exact place; snapping places it from its exact image.
+    #[error("3MF: build item {item}, object {object}, vertex {vertex}: the transformed coordinate is not exactly representable as f64 (snap to a grid to place it from its exact value)")]
     InexactTransform {
         /// The build item (0-based).
         item: usize,

@@ -1,14 +1,16 @@
 //! Input: a point with `f64` coordinates and a chain of 3MF affine
-//! transforms (12 `f64` entries each). Output: the transformed point, or
-//! `None` when some coordinate of its exact image is not an `f64`.
+//! transforms (12 `f64` entries each). Output: the transformed point as
+//! doubles when every coordinate of its exact image is one, else the exact
+//! image as rationals (for snapping to place; nothing here rounds it).
 //!
 //! Every finite `f64` is a dyadic rational `m * 2^e`; sums and products of
 //! dyadics are dyadic, so the image is computed exactly with big integers
 //! (no rounding anywhere) and converted back only if that loses nothing.
 //! The whole chain is applied exactly; only the final point must be `f64`.
 
+use crate::exact::rational::Rat;
 use num_bigint::BigInt;
-use num_traits::{Signed, ToPrimitive, Zero};
+use num_traits::{One, Signed, ToPrimitive, Zero};
 
 /// A 3MF transform: `m00 m01 m02 m10 m11 m12 m20 m21 m22 m30 m31 m32`,
 /// row-vector convention: `x' = x m00 + y m10 + z m20 + m30`, and so on.
@@ -82,6 +84,15 @@ impl Dyadic {
         }
     }
 
+    /// The same value as a rational.
+    fn to_rat(&self) -> Rat {
+        match u32::try_from(self.e) {
+            Ok(up) => Rat::from_integer(&self.m << up),
+            // Products of finite f64 keep `e` within a few thousand.
+            Err(_) => Rat::new(self.m.clone(), BigInt::one() << self.e.unsigned_abs()),
+        }
+    }
+
     /// The `f64` with exactly this value, if there is one.
     fn to_f64(&self) -> Option<f64> {
         if self.m.is_zero() {
@@ -105,14 +116,26 @@ impl Dyadic {
     }
 }
 
-/// Applies `chain` (innermost transform first) to `p` exactly; `None` if a
-/// coordinate of the exact image is not an `f64` (or an input is not
-/// finite while a transform is not the identity).
-pub(super) fn apply_chain(p: [f64; 3], chain: &[Affine]) -> Option<[f64; 3]> {
+/// Where a vertex lands under a chain of transforms, exactly.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) enum Image {
+    /// Every coordinate of the exact image is an `f64`.
+    Doubles([f64; 3]),
+    /// Some coordinate is not: the whole exact image.
+    Exact([Rat; 3]),
+}
+
+/// Applies `chain` (innermost transform first) to `p` exactly; `None` if an
+/// input is not finite while a transform is not the identity.
+pub(super) fn apply_chain(p: [f64; 3], chain: &[Affine]) -> Option<Image> {
     let active: Vec<&Affine> = chain.iter().filter(|t| !t.is_identity()).collect();
     match active.as_slice() {
-        [] => return Some(p),
-        [t] if t.is_translation() => return translate(p, [t.0[9], t.0[10], t.0[11]]),
+        [] => return Some(Image::Doubles(p)),
+        [t] if t.is_translation() => {
+            if let Some(q) = translate(p, [t.0[9], t.0[10], t.0[11]]) {
+                return Some(Image::Doubles(q));
+            }
+        }
         _ => {}
     }
     if !p.iter().all(|x| x.is_finite()) {
@@ -129,7 +152,10 @@ pub(super) fn apply_chain(p: [f64; 3], chain: &[Affine]) -> Option<[f64; 3]> {
         };
         q = [row(0), row(1), row(2)];
     }
-    Some([q[0].to_f64()?, q[1].to_f64()?, q[2].to_f64()?])
+    Some(match (q[0].to_f64(), q[1].to_f64(), q[2].to_f64()) {
+        (Some(x), Some(y), Some(z)) => Image::Doubles([x, y, z]),
+        _ => Image::Exact(q.map(|c| c.to_rat())),
+    })
 }
 
 /// `p + t` coordinate-wise, if every sum is exact (checked with the
@@ -179,16 +205,70 @@ mod tests {
         let t = Affine([
             2.0, 0.0, 0.0, 0.0, 0.5, 0.0, 0.0, 0.0, -1.0, 10.0, 0.25, 3.0,
         ]);
-        assert_eq!(apply_chain([0.75, 3.0, 1.5], &[t]), Some([11.5, 1.75, 1.5]));
+        assert_eq!(
+            apply_chain([0.75, 3.0, 1.5], &[t]),
+            Some(Image::Doubles([11.5, 1.75, 1.5]))
+        );
+    }
+
+    /// The exact rational of a double (`Dyadic`'s own conversion is what
+    /// is under test, so this one goes through `num-rational`).
+    fn r(x: f64) -> Rat {
+        Rat::from_float(x).unwrap()
     }
 
     #[test]
-    fn rounding_product_is_refused() {
+    fn an_image_that_rounds_is_given_exactly() {
         let t = Affine([0.1, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]);
-        assert_eq!(apply_chain([0.1, 0.0, 0.0], &[t]), None);
-        // A translation whose sum would round is refused too.
-        let shift = Affine([1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 1e20, 0.0, 0.0]);
-        assert_eq!(apply_chain([0.1, 0.0, 0.0], &[shift]), None);
+        assert_eq!(
+            apply_chain([0.1, 0.5, 2.0], &[t]),
+            Some(Image::Exact([r(0.1) * r(0.1), r(0.5), r(2.0)]))
+        );
+        // A translation whose sums round (the usual 3MF placement on a
+        // printer's bed), and one far beyond the doubles' range.
+        let shift = Affine([
+            1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 125.0, 1e20, 0.0,
+        ]);
+        assert_eq!(
+            apply_chain([0.1, 0.1, -0.0], &[shift]),
+            Some(Image::Exact([r(0.1) + r(125.0), r(0.1) + r(1e20), r(0.0)]))
+        );
+        let far = Affine([
+            1.0,
+            0.0,
+            0.0,
+            0.0,
+            1.0,
+            0.0,
+            0.0,
+            0.0,
+            1.0,
+            f64::MAX,
+            0.0,
+            0.0,
+        ]);
+        assert_eq!(
+            apply_chain([f64::MAX, 0.0, 0.0], &[far]),
+            Some(Image::Exact([r(f64::MAX) + r(f64::MAX), r(0.0), r(0.0)]))
+        );
+        // Subnormal products: exponents below the doubles' range.
+        let tiny = Affine([
+            5e-324, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0,
+        ]);
+        assert_eq!(
+            apply_chain([0.5, 0.0, 0.0], &[tiny]),
+            Some(Image::Exact([r(5e-324) * r(0.5), r(0.0), r(0.0)]))
+        );
+    }
+
+    #[test]
+    fn a_non_finite_input_under_a_transform_has_no_image() {
+        let shift = Affine([1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0]);
+        assert_eq!(apply_chain([f64::NAN, 0.0, 0.0], &[shift]), None);
+        assert_eq!(
+            apply_chain([f64::INFINITY, 0.0, 0.0], &[Affine::IDENTITY]),
+            Some(Image::Doubles([f64::INFINITY, 0.0, 0.0]))
+        );
     }
 
     #[test]
@@ -198,7 +278,7 @@ mod tests {
         // (x, y, z) -> (-y, x, z) -> (-y + 1, x + 2, z + 3)
         assert_eq!(
             apply_chain([0.5, 0.25, 0.0], &[rot, shift]),
-            Some([0.75, 2.5, 3.0])
+            Some(Image::Doubles([0.75, 2.5, 3.0]))
         );
     }
 }

@@ -23,6 +23,7 @@
 //! directory, then renamed over the target; an error leaves no partial file.
 
 mod error;
+mod exact_positions;
 mod exact_transform;
 mod obj;
 mod off;
@@ -38,6 +39,7 @@ use std::io::{self, BufWriter, Write};
 use std::path::Path;
 
 pub use error::{InvalidIndexReason, LoadError, SaveError};
+pub use exact_positions::ExactPositions;
 pub use off_binary::{BinaryOffLayout, ByteOrder, FaceColors};
 
 use super::Mesh;
@@ -268,8 +270,15 @@ pub struct SaveOptions {
 /// Reads a mesh file. The extension picks the family (STL, OBJ, OFF, PLY,
 /// 3MF); the content decides the encoding (binary or ASCII STL, PLY's
 /// `format` line). Files without a known extension are recognized by
-/// content.
+/// content. As [`load_bytes`], a 3MF vertex whose transformed position is
+/// not a double is refused ([`load_exact`] keeps it, for snapping).
 pub fn load(path: &Path) -> Result<(Mesh, LoadReport), LoadError> {
+    doubles_only(load_exact(path)?)
+}
+
+/// As [`load`], with the vertices whose exact position is not a double
+/// given exactly beside the mesh, as [`load_bytes_exact`] does.
+pub fn load_exact(path: &Path) -> Result<(Mesh, LoadReport, ExactPositions), LoadError> {
     let ext = path.extension().and_then(|e| e.to_str());
     let hint = ext.and_then(MeshFormat::from_extension);
     let bytes = read_file(path).map_err(|source| LoadError::Io {
@@ -277,13 +286,23 @@ pub fn load(path: &Path) -> Result<(Mesh, LoadReport), LoadError> {
         source,
     })?;
     match hint {
-        Some(_) => load_bytes(&bytes, hint),
+        Some(_) => load_bytes_exact(&bytes, hint),
         None => {
             let format = detect_format(&bytes).ok_or_else(|| LoadError::UnknownFormat {
                 extension: ext.map(str::to_owned),
             })?;
-            load_bytes(&bytes, Some(format))
+            load_bytes_exact(&bytes, Some(format))
         }
+    }
+}
+
+/// A mesh read, refused when some vertex's exact position is not a double.
+fn doubles_only(
+    (mesh, report, exact): (Mesh, LoadReport, ExactPositions),
+) -> Result<(Mesh, LoadReport), LoadError> {
+    match exact.refusal() {
+        Some(e) => Err(e),
+        None => Ok((mesh, report)),
     }
 }
 
@@ -319,7 +338,23 @@ pub fn read_file(path: &Path) -> std::io::Result<Vec<u8>> {
 /// Reads a mesh from bytes. `hint` picks the family (the encoding within it,
 /// binary or ASCII STL, PLY's encoding, is always decided by content); with
 /// `None` the format is recognized by content ([`detect_format`]).
+///
+/// Every coordinate of the mesh is exactly the file's: a 3MF vertex whose
+/// transformed position is not a double is refused
+/// ([`LoadError::InexactTransform`]; [`load_bytes_exact`] keeps it, for
+/// snapping).
 pub fn load_bytes(bytes: &[u8], hint: Option<MeshFormat>) -> Result<(Mesh, LoadReport), LoadError> {
+    doubles_only(load_bytes_exact(bytes, hint)?)
+}
+
+/// As [`load_bytes`], but the vertices whose exact position is not a double
+/// (3MF transforms that round) are given exactly beside the mesh, which
+/// holds their nearest doubles: snapping
+/// ([`crate::mesh::prepare::prepare_exact`]) places them exactly.
+pub fn load_bytes_exact(
+    bytes: &[u8],
+    hint: Option<MeshFormat>,
+) -> Result<(Mesh, LoadReport, ExactPositions), LoadError> {
     let format = match hint {
         Some(f) => f,
         None => detect_format(bytes).ok_or(LoadError::UnknownFormat { extension: None })?,
@@ -327,15 +362,16 @@ pub fn load_bytes(bytes: &[u8], hint: Option<MeshFormat>) -> Result<(Mesh, LoadR
     if let Some(e) = utf16_text(format, bytes) {
         return Err(e);
     }
-    match format {
+    let doubles = match format {
         MeshFormat::StlBinary | MeshFormat::StlAscii => stl::read(bytes),
         MeshFormat::Obj => obj::read(bytes),
         MeshFormat::Off => off::read(bytes),
         MeshFormat::PlyAscii
         | MeshFormat::PlyBinaryLittleEndian
         | MeshFormat::PlyBinaryBigEndian => ply::read(bytes),
-        MeshFormat::ThreeMf => threemf::read(bytes),
-    }
+        MeshFormat::ThreeMf => return threemf::read(bytes),
+    };
+    doubles.map(|(mesh, report)| (mesh, report, ExactPositions::default()))
 }
 
 /// A text format's file that starts with a UTF-16 byte-order mark (as

@@ -13,7 +13,8 @@
 //!
 //! Coordinates and transform entries are read as the nearest `f64` (like
 //! every text format here); transforms are then applied exactly, and a
-//! vertex whose exact image is not an `f64` is an error naming the item.
+//! vertex whose exact image is not an `f64` keeps that image
+//! ([`ExactPositions`]: only snapping may place it).
 //! Each placed object keeps its own vertices (nothing is welded), so
 //! out-of-range triangle indices are an error here, not left to validation.
 
@@ -23,8 +24,10 @@ use std::io::{Cursor, Read, Seek, Write};
 use quick_xml::events::{BytesStart, Event};
 use quick_xml::XmlVersion;
 
-use super::exact_transform::{apply_chain, Affine};
+use super::exact_positions::{ExactPositions, PlacedVertex};
+use super::exact_transform::{apply_chain, Affine, Image};
 use super::{write_err, LoadError, LoadNote, LoadReport, MeshFormat, SaveError, MAX_ELEMENTS};
+use crate::exact::rational::rat_to_f64;
 use crate::ids::VertexId;
 use crate::mesh::Mesh;
 
@@ -50,7 +53,7 @@ const ROOT_MODEL: &str = "3D/3dmodel.model";
 const MODEL_REL_TYPE: &str = "http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel";
 
 /// Reads a 3MF package.
-pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
+pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport, ExactPositions), LoadError> {
     if is_xml(bytes) {
         // A model part taken out of its package (test suites keep them so):
         // named as such rather than as a zip archive without a directory.
@@ -443,7 +446,7 @@ fn finish_object(model: &mut Model, object: Option<(u64, Object)>) -> Result<(),
 }
 
 /// Places every build item's object into one mesh.
-fn build(model: &Model) -> Result<(Mesh, LoadReport), LoadError> {
+fn build(model: &Model) -> Result<(Mesh, LoadReport, ExactPositions), LoadError> {
     let budget = model
         .parsed
         .saturating_mul(MAX_INSTANCE_FACTOR)
@@ -455,6 +458,7 @@ fn build(model: &Model) -> Result<(Mesh, LoadReport), LoadError> {
         faces: Vec::new(),
         budget,
         non_identity: false,
+        exact: ExactPositions::default(),
     };
     let mut notes = Vec::new();
     if let Some(unit) = &model.unit {
@@ -484,6 +488,7 @@ fn build(model: &Model) -> Result<(Mesh, LoadReport), LoadError> {
             format: FORMAT,
             notes,
         },
+        out.exact,
     ))
 }
 
@@ -493,6 +498,7 @@ struct Builder<'a> {
     faces: Vec<[VertexId; 3]>,
     budget: u64,
     non_identity: bool,
+    exact: ExactPositions,
 }
 
 impl Builder<'_> {
@@ -558,12 +564,21 @@ impl Builder<'_> {
             self.non_identity = true;
         }
         for (vertex, &p) in obj.positions.iter().enumerate() {
-            let q = apply_chain(p, &inner_first).ok_or(LoadError::InexactTransform {
+            let at = PlacedVertex {
                 item,
                 object,
                 vertex,
-            })?;
-            self.positions.push(q);
+            };
+            // A non-finite coordinate under a transform has no image.
+            match apply_chain(p, &inner_first).ok_or_else(|| at.error())? {
+                Image::Doubles(q) => self.positions.push(q),
+                Image::Exact(q) => {
+                    // base + vertex < budget <= MAX_ELEMENTS < u32::MAX.
+                    let id = VertexId((base + vertex) as u32);
+                    self.positions.push(q.each_ref().map(rat_to_f64));
+                    self.exact.push(id, at, q);
+                }
+            }
         }
         for (triangle, t) in obj.triangles.iter().enumerate() {
             let mut face = [VertexId(0); 3];
