@@ -1,17 +1,28 @@
 //! Input: byte strings that once crashed or stressed a loader (found by the
 //! `fuzz/` targets or written against a known weak spot). Output: the same
-//! check the fuzz targets run (load without panic; a mesh that validates
+//! check the fuzz targets run (load without panic; snap what a 3MF
+//! transform leaves off the doubles; a mesh that validates
 //! passes the topology invariants), one named test per input.
 
-use wmslice::mesh::io::{load_bytes, MeshFormat};
+use wmslice::exact::rational::Rat;
+use wmslice::mesh::io::{load_bytes_exact, MeshFormat};
+use wmslice::mesh::prepare::prepare_exact;
 use wmslice::mesh::topology::check_invariants;
 use wmslice::mesh::validate::validate;
 
 /// The fuzz targets' check (`fuzz/fuzz_targets/common.rs`).
 fn check(data: &[u8], format: MeshFormat) {
-    let Ok((mesh, _report)) = load_bytes(data, Some(format)) else {
+    let Ok((mesh, _report, exact)) = load_bytes_exact(data, Some(format)) else {
         return;
     };
+    // A 3MF vertex whose transformed position is not a double is placed
+    // by a grid (1/1024) from its exact image; without one, refused.
+    let grid = Rat::new(1.into(), 1024.into());
+    let q = (!exact.is_empty()).then_some(&grid);
+    let Ok(prepared) = prepare_exact(mesh, &exact, q) else {
+        return;
+    };
+    let mesh = prepared.mesh;
     let report = validate(&mesh);
     if report.is_accepted() {
         if let Some(topo) = &report.topology {

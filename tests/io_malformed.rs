@@ -173,6 +173,66 @@ fn ascii_stl_syntax_error_names_the_line() {
     );
 }
 
+/// As exporters have written them (PrusaSlicer keeps such a file among its
+/// tests): normals that are not numbers, and words after `endloop` and
+/// `endfacet`. The normal is not used, so the triangles are read, and
+/// both are counted in notes.
+#[test]
+fn ascii_stl_odd_normals_and_words_after_end_tags_are_counted_not_refused() {
+    let text = b"solid t\n\
+facet normal +inf -inf weirdvalue\nouter loop\nvertex 0 0 0\nvertex 0 1 0\nvertex 1 0 0\nendloop foo\nendfacet bar baz\n\
+facet normal nan 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 0 1\nendloop\nendfacet\n\
+endsolid t trailing words\n";
+    let (mesh, report) = load_bytes(text, None).unwrap();
+    assert_eq!(
+        mesh.positions,
+        vec![
+            [0.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0]
+        ]
+    );
+    assert_eq!(ids(&mesh), vec![[0, 1, 2], [0, 2, 3]]);
+    let ignored: Vec<(String, usize)> = report
+        .notes
+        .iter()
+        .filter_map(|n| match n {
+            LoadNote::Ignored { kind, count } => Some((kind.clone(), *count)),
+            _ => None,
+        })
+        .collect();
+    // One facet's normal has a word (`nan` and the infinities are numbers);
+    // `foo`, `bar` and `baz` are the three words.
+    assert_eq!(ignored.len(), 2, "{ignored:?}");
+    assert_eq!(ignored[0].1, 1);
+    assert!(ignored[0].0.contains("normals"), "{ignored:?}");
+    assert_eq!(ignored[1].1, 3);
+}
+
+/// Leniency stays on the line of the end tag, and a normal still has three
+/// parts: a missing `endfacet`, or a normal of two numbers, is refused
+/// with its line.
+#[test]
+fn ascii_stl_missing_endfacet_or_short_normal_is_still_refused() {
+    for (text, line) in [
+        (
+            &b"solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 0 1 0\nvertex 1 0 0\nendloop\nfacet normal 0 0 1\n"[..],
+            8,
+        ),
+        (
+            &b"solid t\nfacet normal 0 1\nouter loop\nvertex 0 0 0\n"[..],
+            3,
+        ),
+    ] {
+        let err = load_bytes(text, None).unwrap_err();
+        assert!(
+            matches!(err, LoadError::Parse { format: MeshFormat::StlAscii, line: Some(l), .. } if l == line),
+            "{err:?}"
+        );
+    }
+}
+
 #[test]
 fn ascii_stl_facet_with_two_vertices_cannot_be_triangulated() {
     let text = b"solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\nendfacet\nendsolid\n";

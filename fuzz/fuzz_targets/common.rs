@@ -1,15 +1,26 @@
 //! Input: fuzz bytes and a format. Output: nothing; panics on a bug. The
 //! same steps as `tests/io_fuzz_regressions.rs`: load (must not panic),
+//! snap what a 3MF transform leaves off the doubles,
 //! validate, and check the topology invariants of an accepted mesh.
 
-use wmslice::mesh::io::{load_bytes, MeshFormat};
+use wmslice::exact::rational::Rat;
+use wmslice::mesh::io::{load_bytes_exact, MeshFormat};
+use wmslice::mesh::prepare::prepare_exact;
 use wmslice::mesh::topology::check_invariants;
 use wmslice::mesh::validate::validate;
 
 pub fn check(data: &[u8], format: MeshFormat) {
-    let Ok((mesh, _report)) = load_bytes(data, Some(format)) else {
+    let Ok((mesh, _report, exact)) = load_bytes_exact(data, Some(format)) else {
         return;
     };
+    // A 3MF vertex whose transformed position is not a double is placed
+    // by a grid (1/1024) from its exact image; without one, refused.
+    let grid = Rat::new(1.into(), 1024.into());
+    let q = (!exact.is_empty()).then_some(&grid);
+    let Ok(prepared) = prepare_exact(mesh, &exact, q) else {
+        return;
+    };
+    let mesh = prepared.mesh;
     let report = validate(&mesh);
     if report.is_accepted() {
         if let Some(topo) = &report.topology {

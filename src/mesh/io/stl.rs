@@ -247,6 +247,9 @@ fn read_ascii(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
     let mut facets = 0usize;
     let mut loop_vertices: Vec<[f64; 3]> = Vec::with_capacity(3);
     let mut solids = 0usize;
+    let mut unreadable_normals = 0usize;
+    let mut stray_words = 0usize;
+    let mut endfacet_line = None;
 
     'solids: loop {
         let eof_line = tokens.line;
@@ -281,19 +284,39 @@ fn read_ascii(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
                 tokens.skip_line();
                 continue 'solids;
             }
+            if !t.eq_ignore_ascii_case(b"facet") && endfacet_line == Some(line) {
+                // A word after `endfacet` on its line (`endfacet bar`).
+                stray_words += 1;
+                continue;
+            }
             if !t.eq_ignore_ascii_case(b"facet") {
                 return Err(parse_err(
                     line,
                     format!("expected `facet` or `endsolid`, found `{}`", show(t)),
                 ));
             }
-            // `facet normal nx ny nz`: the normal is informative only.
+            // `facet normal nx ny nz`: the normal is informative only (the
+            // orientation is the vertex order's), so a component that is
+            // not a number (`weirdvalue`, as exporters have written) is
+            // counted, not refused. Exactly three tokens are taken: a
+            // normal missing one would take `outer`, which is refused.
             let after_facet = tokens.line;
             expect(&mut tokens, "normal", after_facet)?;
+            let mut readable = true;
             for _ in 0..3 {
                 let l = tokens.line;
-                number(&mut tokens, l)?;
+                let (t, line) = tokens.next().ok_or_else(|| {
+                    parse_err(l, "unexpected end of file: expected a number".to_owned())
+                })?;
+                if t.eq_ignore_ascii_case(b"outer") {
+                    return Err(parse_err(
+                        line,
+                        "expected a number, found `outer`".to_owned(),
+                    ));
+                }
+                readable &= parse_f64(t).is_some();
             }
+            unreadable_normals += usize::from(!readable);
             let l = tokens.line;
             expect(&mut tokens, "outer", l)?;
             let l = tokens.line;
@@ -323,8 +346,28 @@ fn read_ascii(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
                 }
                 loop_vertices.push(p);
             }
-            let l = tokens.line;
-            expect(&mut tokens, "endfacet", l)?;
+            // Words after `endloop` on its line (`endloop foo`) are
+            // skipped and counted; `endfacet` must follow.
+            let endloop_line = tokens.line;
+            loop {
+                let (t, line) = tokens.next().ok_or_else(|| {
+                    parse_err(
+                        tokens.line,
+                        "unexpected end of file: expected `endfacet`".to_owned(),
+                    )
+                })?;
+                if t.eq_ignore_ascii_case(b"endfacet") {
+                    endfacet_line = Some(line);
+                    break;
+                }
+                if line != endloop_line {
+                    return Err(parse_err(
+                        line,
+                        format!("expected `endfacet`, found `{}`", show(t)),
+                    ));
+                }
+                stray_words += 1;
+            }
             let (&first, rest) = match loop_vertices.split_first() {
                 Some(x) if loop_vertices.len() >= 3 => x,
                 _ => {
@@ -357,6 +400,18 @@ fn read_ascii(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
         notes.push(LoadNote::Triangulated {
             polygons,
             triangles: fan_triangles,
+        });
+    }
+    if unreadable_normals > 0 {
+        notes.push(LoadNote::Ignored {
+            kind: "facet normals that are not numbers (normals are not used)".to_owned(),
+            count: unreadable_normals,
+        });
+    }
+    if stray_words > 0 {
+        notes.push(LoadNote::Ignored {
+            kind: "words after `endloop` or `endfacet` on their lines".to_owned(),
+            count: stray_words,
         });
     }
     finish(soup, format, notes)
