@@ -980,6 +980,76 @@ fn three_mf_transform_that_rounds_is_snapped_from_the_exact_image() {
     assert_eq!(doubles.mesh.positions, vec![[0.0, 0.0, 0.0]]);
 }
 
+/// The production extension as Bambu Studio writes it: the root part's
+/// object gathers components held in other model parts (`p:path`), which
+/// reuse each other's object ids.
+#[test]
+fn three_mf_components_in_other_parts_are_placed_from_their_part() {
+    const PROD: &str = "http://schemas.microsoft.com/3dmanufacturing/production/2015/06";
+    let root = format!(
+        r#"<?xml version="1.0" encoding="UTF-8"?>
+<model unit="millimeter" xmlns="{NS}" xmlns:p="{PROD}"><resources>
+<object id="2"><components>
+<component p:path="/3D/Objects/a.model" objectid="1" transform="1 0 0 0 1 0 0 0 1 10 0 0"/>
+<component p:path="/3D/Objects/b.model" objectid="1"/>
+</components></object></resources>
+<build><item objectid="2" transform="1 0 0 0 1 0 0 0 1 0 0 5"/></build></model>"#
+    );
+    let a = model(&tetra_object(1, "1"), "");
+    let b = model(&tetra_object(1, "2"), "");
+    let bytes = zip_parts(&[
+        ("3D/3dmodel.model", root.as_bytes()),
+        ("3D/Objects/a.model", a.as_bytes()),
+        ("3D/Objects/b.model", b.as_bytes()),
+    ]);
+    let (mesh, _) = load_bytes(&bytes, None).unwrap();
+    assert_eq!(mesh.num_faces(), 8);
+    // a's tetrahedron of size 1 moved by (10, 0, 5); b's of size 2 by (0, 0, 5).
+    assert_eq!(
+        mesh.positions,
+        vec![
+            [10.0, 0.0, 5.0],
+            [11.0, 0.0, 5.0],
+            [10.0, 1.0, 5.0],
+            [10.0, 0.0, 6.0],
+            [0.0, 0.0, 5.0],
+            [2.0, 0.0, 5.0],
+            [0.0, 2.0, 5.0],
+            [0.0, 0.0, 7.0]
+        ]
+    );
+    assert_eq!(ids(&mesh)[4], [4, 6, 5]);
+
+    // A part that is not in the package is named.
+    let bytes = zip_parts(&[
+        ("3D/3dmodel.model", root.as_bytes()),
+        ("3D/Objects/a.model", a.as_bytes()),
+    ]);
+    let err = load_bytes(&bytes, None).unwrap_err();
+    assert!(
+        matches!(&err, LoadError::ZipEntryMissing { name } if name == "3D/Objects/b.model"),
+        "{err:?}"
+    );
+
+    // A non-root part may not refer to another part (the extension's rule).
+    let nested = format!(
+        r#"<?xml version="1.0" encoding="UTF-8"?>
+<model unit="millimeter" xmlns="{NS}" xmlns:p="{PROD}"><resources>
+<object id="1"><components><component p:path="/3D/Objects/b.model" objectid="1"/></components></object>
+</resources><build/></model>"#
+    );
+    let bytes = zip_parts(&[
+        ("3D/3dmodel.model", root.as_bytes()),
+        ("3D/Objects/a.model", nested.as_bytes()),
+        ("3D/Objects/b.model", b.as_bytes()),
+    ]);
+    let err = load_bytes(&bytes, None).unwrap_err();
+    assert!(
+        matches!(&err, LoadError::Unsupported { feature, .. } if feature.contains("non-root part `3D/Objects/a.model`")),
+        "{err:?}"
+    );
+}
+
 #[test]
 fn three_mf_component_cycle_is_refused() {
     let resources = r#"<object id="1"><components><component objectid="2"/></components></object><object id="2"><components><component objectid="1"/></components></object>"#;

@@ -9,7 +9,11 @@
 //! are exempt), and is read through `take`, so a lying header cannot inflate
 //! more. `quick-xml` parses the model with a depth limit ([`MAX_XML_DEPTH`]).
 //! Components are expanded recursively (depth limit [`MAX_COMPONENT_DEPTH`],
-//! cycles refused) and the instanced element count is bounded.
+//! cycles refused) and the instanced element count is bounded. A component
+//! or item of the root part may name the object's model part (the
+//! production extension's `p:path`, as Bambu Studio writes every object);
+//! each part named is read once, under the same limits, and may not name
+//! others itself (as the extension requires).
 //!
 //! Coordinates and transform entries are read as the nearest `f64` (like
 //! every text format here); transforms are then applied exactly, and a
@@ -69,9 +73,22 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport, ExactPositions), L
         .map_err(|source| LoadError::ZipArchive { source })?;
     let root = root_model_name(&mut archive)?;
     let xml = read_part(&mut archive, &root)?;
-    let model = parse_model(&xml, &root)?;
+    let model = parse_model(&xml, &root, true)?;
     drop(xml);
-    build(&model)
+    // The other parts the root refers to, each read once.
+    let mut parts = HashMap::new();
+    let referred = model
+        .items
+        .iter()
+        .chain(model.objects.values().flat_map(|o| &o.components))
+        .filter_map(|p| p.part.as_deref());
+    for name in referred {
+        if !parts.contains_key(name) {
+            let xml = read_part(&mut archive, name)?;
+            parts.insert(name.to_owned(), parse_model(&xml, name, false)?);
+        }
+    }
+    build(&model, &parts)
 }
 
 /// Whether `bytes` start as XML does: a `<` first, after an optional UTF-8
@@ -214,6 +231,9 @@ struct Object {
 /// A reference to an object with its transform (an item or a component).
 #[derive(Debug)]
 struct Placement {
+    /// The model part holding the object, when another than the referring
+    /// one (the production extension's `p:path`, without its leading `/`).
+    part: Option<String>,
     object: u64,
     transform: Affine,
 }
@@ -306,19 +326,33 @@ fn transform(attrs: &[(String, String)], element: &'static str) -> Result<Affine
     Ok(Affine(m))
 }
 
-/// Refuses the production extension's external references.
-fn refuse_path(attrs: &[(String, String)]) -> Result<(), LoadError> {
+/// The model part an item or component refers to (the production
+/// extension's `p:path`, as Bambu Studio writes every object), `None` for
+/// its own part. Only the root part may refer to others (as the extension
+/// requires of its non-root parts).
+fn part_path(
+    attrs: &[(String, String)],
+    part: &str,
+    root: bool,
+) -> Result<Option<String>, LoadError> {
     match get(attrs, "path") {
+        None => Ok(None),
+        Some(p) if root => {
+            let p = p.trim().trim_start_matches('/');
+            Ok((p != part).then(|| p.to_owned()))
+        }
         Some(p) => Err(LoadError::Unsupported {
             format: FORMAT,
-            feature: format!("reference to another model part `{p}` (production extension)"),
+            feature: format!(
+                "reference to model part `{p}` from the non-root part `{part}` (production extension)"
+            ),
         }),
-        None => Ok(()),
     }
 }
 
-/// Parses the model part into objects and build items.
-fn parse_model(xml: &[u8], part: &str) -> Result<Model, LoadError> {
+/// Parses a model part into objects and build items; `root` for the root
+/// part, the only one whose references may name other parts.
+fn parse_model(xml: &[u8], part: &str, root: bool) -> Result<Model, LoadError> {
     let mut reader = quick_xml::Reader::from_reader(xml);
     let mut model = Model::default();
     // Local names of the open elements, outermost first.
@@ -404,19 +438,21 @@ fn parse_model(xml: &[u8], part: &str) -> Result<Model, LoadError> {
             "component" if parent(1) == Some("components") => {
                 if let Some((_, obj)) = current.as_mut() {
                     let attrs = attributes(&e, part)?;
-                    refuse_path(&attrs)?;
-                    let object = id(&attrs, "component", "objectid")?;
-                    let transform = transform(&attrs, "component")?;
-                    obj.components.push(Placement { object, transform });
+                    obj.components.push(Placement {
+                        part: part_path(&attrs, part, root)?,
+                        object: id(&attrs, "component", "objectid")?,
+                        transform: transform(&attrs, "component")?,
+                    });
                     model.parsed += 1;
                 }
             }
             "item" if parent(1) == Some("build") => {
                 let attrs = attributes(&e, part)?;
-                refuse_path(&attrs)?;
-                let object = id(&attrs, "item", "objectid")?;
-                let transform = transform(&attrs, "item")?;
-                model.items.push(Placement { object, transform });
+                model.items.push(Placement {
+                    part: part_path(&attrs, part, root)?,
+                    object: id(&attrs, "item", "objectid")?,
+                    transform: transform(&attrs, "item")?,
+                });
             }
             _ => {}
         }
@@ -445,15 +481,22 @@ fn finish_object(model: &mut Model, object: Option<(u64, Object)>) -> Result<(),
     Ok(())
 }
 
-/// Places every build item's object into one mesh.
-fn build(model: &Model) -> Result<(Mesh, LoadReport, ExactPositions), LoadError> {
-    let budget = model
-        .parsed
+/// Places every build item's object into one mesh; `parts` are the model
+/// parts other than the root, by name.
+fn build(
+    model: &Model,
+    parts: &HashMap<String, Model>,
+) -> Result<(Mesh, LoadReport, ExactPositions), LoadError> {
+    let parsed = parts
+        .values()
+        .fold(model.parsed, |n, m| n.saturating_add(m.parsed));
+    let budget = parsed
         .saturating_mul(MAX_INSTANCE_FACTOR)
         .saturating_add(INSTANCE_ALLOWANCE)
         .min(MAX_ELEMENTS as u64);
     let mut out = Builder {
         model,
+        parts,
         positions: Vec::new(),
         faces: Vec::new(),
         budget,
@@ -470,7 +513,8 @@ fn build(model: &Model) -> Result<(Mesh, LoadReport, ExactPositions), LoadError>
         out.non_identity = false;
         let mut chain = vec![placement.transform];
         let mut path = Vec::new();
-        out.place(item, placement.object, &mut chain, &mut path)?;
+        let at = (placement.part.as_deref(), placement.object);
+        out.place(item, at, &mut chain, &mut path)?;
         if out.non_identity {
             notes.push(LoadNote::TransformApplied {
                 item,
@@ -494,6 +538,7 @@ fn build(model: &Model) -> Result<(Mesh, LoadReport, ExactPositions), LoadError>
 
 struct Builder<'a> {
     model: &'a Model,
+    parts: &'a HashMap<String, Model>,
     positions: Vec<[f64; 3]>,
     faces: Vec<[VertexId; 3]>,
     budget: u64,
@@ -501,17 +546,18 @@ struct Builder<'a> {
     exact: ExactPositions,
 }
 
-impl Builder<'_> {
-    /// Places `object` under `chain` (outermost transform first); `path`
-    /// holds the objects being expanded, to refuse cycles.
+impl<'a> Builder<'a> {
+    /// Places `object` of model `part` (`None`: the root) under `chain`
+    /// (outermost transform first); `path` holds the objects being
+    /// expanded, to refuse cycles.
     fn place(
         &mut self,
         item: usize,
-        object: u64,
+        (part, object): (Option<&'a str>, u64),
         chain: &mut Vec<Affine>,
-        path: &mut Vec<u64>,
+        path: &mut Vec<(Option<&'a str>, u64)>,
     ) -> Result<(), LoadError> {
-        if path.contains(&object) {
+        if path.contains(&(part, object)) {
             return Err(LoadError::ComponentCycle { object });
         }
         if path.len() >= MAX_COMPONENT_DEPTH {
@@ -520,8 +566,17 @@ impl Builder<'_> {
                 limit: MAX_COMPONENT_DEPTH,
             });
         }
-        let obj = self
-            .model
+        let model: &'a Model = match part {
+            None => self.model,
+            // Every part referred to was read before building.
+            Some(name) => self
+                .parts
+                .get(name)
+                .ok_or_else(|| LoadError::ZipEntryMissing {
+                    name: name.to_owned(),
+                })?,
+        };
+        let obj = model
             .objects
             .get(&object)
             .ok_or(LoadError::UnknownObject { id: object })?;
@@ -529,10 +584,12 @@ impl Builder<'_> {
         if !obj.positions.is_empty() || !obj.triangles.is_empty() {
             self.place_mesh(item, object, obj, chain)?;
         }
-        path.push(object);
+        path.push((part, object));
         for c in &obj.components {
             chain.push(c.transform);
-            let r = self.place(item, c.object, chain, path);
+            // A component without a path is in its object's own part.
+            let at = (c.part.as_deref().or(part), c.object);
+            let r = self.place(item, at, chain, path);
             chain.pop();
             r?;
         }
