@@ -1050,6 +1050,40 @@ fn three_mf_components_in_other_parts_are_placed_from_their_part() {
     );
 }
 
+/// Parts small enough to be free of the ratio limit one by one are held to
+/// it together: three of 600 kB that deflate to almost nothing.
+#[test]
+fn three_mf_many_small_parts_are_a_zip_bomb_together() {
+    const PROD: &str = "http://schemas.microsoft.com/3dmanufacturing/production/2015/06";
+    let components: String = ["a", "b", "c"]
+        .iter()
+        .map(|p| format!(r#"<component p:path="/3D/{p}.model" objectid="1"/>"#))
+        .collect();
+    let root = format!(
+        r#"<?xml version="1.0" encoding="UTF-8"?>
+<model unit="millimeter" xmlns="{NS}" xmlns:p="{PROD}"><resources>
+<object id="2"><components>{components}</components></object></resources>
+<build><item objectid="2"/></build></model>"#
+    );
+    let padded = format!(
+        "{}<!-- {} -->",
+        model(&tetra_object(1, "1"), ""),
+        "x".repeat(600_000)
+    );
+    let bytes = zip_parts(&[
+        ("3D/3dmodel.model", root.as_bytes()),
+        ("3D/a.model", padded.as_bytes()),
+        ("3D/b.model", padded.as_bytes()),
+        ("3D/c.model", padded.as_bytes()),
+    ]);
+    assert!(bytes.len() < 20_000, "{}", bytes.len());
+    let err = load_bytes(&bytes, None).unwrap_err();
+    assert!(
+        matches!(&err, LoadError::ZipBomb { name, .. } if name == "3D/b.model"),
+        "{err:?}"
+    );
+}
+
 #[test]
 fn three_mf_component_cycle_is_refused() {
     let resources = r#"<object id="1"><components><component objectid="2"/></components></object><object id="2"><components><component objectid="1"/></components></object>"#;

@@ -12,7 +12,8 @@
 //! cycles refused) and the instanced element count is bounded. A component
 //! or item of the root part may name the object's model part (the
 //! production extension's `p:path`, as Bambu Studio writes every object);
-//! each part named is read once, under the same limits, and may not name
+//! each part named is read once, under the same limits (and all parts
+//! together under [`MAX_RATIO`] times the package's size), and may not name
 //! others itself (as the extension requires).
 //!
 //! Coordinates and transform entries are read as the nearest `f64` (like
@@ -74,8 +75,14 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport, ExactPositions), L
     let root = root_model_name(&mut archive)?;
     let xml = read_part(&mut archive, &root)?;
     let model = parse_model(&xml, &root, true)?;
+    // The other parts the root refers to, each read once. Each part small
+    // enough to be free of the ratio limit, many of them could still
+    // inflate without bound: all parts together are held to the ratio
+    // against the whole package.
+    let package = bytes.len() as u64;
+    let cap = RATIO_FREE_BYTES.max(package.saturating_mul(MAX_RATIO));
+    let mut inflated = xml.len() as u64;
     drop(xml);
-    // The other parts the root refers to, each read once.
     let mut parts = HashMap::new();
     let referred = model
         .items
@@ -85,6 +92,15 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport, ExactPositions), L
     for name in referred {
         if !parts.contains_key(name) {
             let xml = read_part(&mut archive, name)?;
+            inflated = inflated.saturating_add(xml.len() as u64);
+            if inflated > cap {
+                return Err(LoadError::ZipBomb {
+                    name: name.to_owned(),
+                    compressed: package,
+                    inflated,
+                    ratio_limit: MAX_RATIO,
+                });
+            }
             parts.insert(name.to_owned(), parse_model(&xml, name, false)?);
         }
     }
