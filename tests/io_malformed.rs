@@ -1084,6 +1084,64 @@ fn three_mf_many_small_parts_are_a_zip_bomb_together() {
     );
 }
 
+/// Object types (3MF core): a part and a solid support are sliced, a
+/// support or a surface (which need not be closed) is skipped with a note,
+/// an item placing an `other` object or an unknown type is refused.
+#[test]
+fn three_mf_object_types_decide_what_is_sliced() {
+    let typed = |id: u32, kind: &str, s: &str| {
+        tetra_object(id, s).replacen(r#"type="model""#, &format!(r#"type="{kind}""#), 1)
+    };
+    let resources = format!(
+        "{}{}{}{}",
+        typed(1, "model", "1"),
+        typed(2, "support", "2"),
+        typed(3, "solidsupport", "3"),
+        typed(4, "surface", "4")
+    );
+    let items =
+        r#"<item objectid="1"/><item objectid="2"/><item objectid="3"/><item objectid="4"/>"#;
+    let (mesh, report) = load_bytes(&three_mf(&model(&resources, items)), None).unwrap();
+    // The tetrahedra of size 1 and 3; sizes 2 and 4 are skipped.
+    assert_eq!(mesh.num_vertices(), 8);
+    assert_eq!(mesh.positions[1], [1.0, 0.0, 0.0]);
+    assert_eq!(mesh.positions[5], [3.0, 0.0, 0.0]);
+    assert!(report.notes.contains(&LoadNote::Ignored {
+        kind: "build items placing a support or a surface (not solids)".to_owned(),
+        count: 2
+    }));
+
+    let other = format!("{}{}", typed(1, "model", "1"), typed(2, "other", "2"));
+    let err = load_bytes(
+        &three_mf(&model(
+            &other,
+            r#"<item objectid="1"/><item objectid="2"/>"#,
+        )),
+        None,
+    )
+    .unwrap_err();
+    assert!(
+        matches!(err, LoadError::PlacesOther { item: 1, object: 2 }),
+        "{err:?}"
+    );
+    // An `other` object no item places is fine.
+    assert!(load_bytes(&three_mf(&model(&other, r#"<item objectid="1"/>"#)), None).is_ok());
+
+    let bad = typed(1, "invalidtype", "1");
+    let err = load_bytes(&three_mf(&model(&bad, r#"<item objectid="1"/>"#)), None).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            LoadError::BadAttribute {
+                element: "object",
+                attribute: "type",
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+}
+
 #[test]
 fn three_mf_component_cycle_is_refused() {
     let resources = r#"<object id="1"><components><component objectid="2"/></components></object><object id="2"><components><component objectid="1"/></components></object>"#;

@@ -230,6 +230,15 @@ pub enum LoadError {
         /// The object id referred to.
         id: u64,
     },
+    /// A build item places an object of type `other`, which the 3MF core
+    /// specification says is not to be printed.
+    #[error("3MF: build item {item} places object {object}, of type `other` (not to be printed)")]
+    PlacesOther {
+        /// The build item (0-based).
+        item: usize,
+        /// The object.
+        object: u64,
+    },
     /// Two objects share an id.
     #[error("3MF: two objects have id {id}")]
     DuplicateObject {

@@ -236,9 +236,50 @@ fn attributes(e: &BytesStart<'_>, part: &str) -> Result<Vec<(String, String)>, L
     Ok(out)
 }
 
+/// What an object is for (its `type`; the 3MF core specification's five).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+enum ObjectType {
+    /// A part (the default).
+    #[default]
+    Model,
+    /// A solid support, printed as a solid: sliced with the parts.
+    SolidSupport,
+    /// A support structure, which need not be closed: not sliced.
+    Support,
+    /// A surface, which need not be closed: not sliced.
+    Surface,
+    /// Not to be printed: a build item may not place it.
+    Other,
+}
+
+impl ObjectType {
+    fn parse(attrs: &[(String, String)]) -> Result<ObjectType, LoadError> {
+        Ok(match get(attrs, "type").map(str::trim) {
+            None | Some("model") => ObjectType::Model,
+            Some("solidsupport") => ObjectType::SolidSupport,
+            Some("support") => ObjectType::Support,
+            Some("surface") => ObjectType::Surface,
+            Some("other") => ObjectType::Other,
+            Some(t) => return Err(bad_attr(
+                "object",
+                "type",
+                format!(
+                    "is not an object type: `{t}` (model, solidsupport, support, surface or other)"
+                ),
+            )),
+        })
+    }
+
+    /// Whether objects of this type are sliced (a closed solid is expected).
+    fn is_solid(self) -> bool {
+        matches!(self, ObjectType::Model | ObjectType::SolidSupport)
+    }
+}
+
 /// One `<object>`: a mesh, or components, or nothing this reader uses.
 #[derive(Debug, Default)]
 struct Object {
+    kind: ObjectType,
     positions: Vec<[f64; 3]>,
     triangles: Vec<[u32; 3]>,
     components: Vec<Placement>,
@@ -415,8 +456,15 @@ fn parse_model(xml: &[u8], part: &str, root: bool) -> Result<Model, LoadError> {
             "object" if parent(1) == Some("resources") => {
                 let attrs = attributes(&e, part)?;
                 let oid = id(&attrs, "object", "id")?;
+                let kind = ObjectType::parse(&attrs)?;
                 finish_object(&mut model, current.take())?;
-                current = Some((oid, Object::default()));
+                current = Some((
+                    oid,
+                    Object {
+                        kind,
+                        ..Object::default()
+                    },
+                ));
                 if empty {
                     finish_object(&mut model, current.take())?;
                 }
@@ -525,7 +573,21 @@ fn build(
             notes.push(LoadNote::Unit { unit: unit.clone() });
         }
     }
+    let mut not_solid = 0;
     for (item, placement) in model.items.iter().enumerate() {
+        let kind = out
+            .object(placement.part.as_deref(), placement.object)?
+            .kind;
+        if kind == ObjectType::Other {
+            return Err(LoadError::PlacesOther {
+                item,
+                object: placement.object,
+            });
+        }
+        if !kind.is_solid() {
+            not_solid += 1;
+            continue;
+        }
         out.non_identity = false;
         let mut chain = vec![placement.transform];
         let mut path = Vec::new();
@@ -537,6 +599,12 @@ fn build(
                 object: placement.object,
             });
         }
+    }
+    if not_solid > 0 {
+        notes.push(LoadNote::Ignored {
+            kind: "build items placing a support or a surface (not solids)".to_owned(),
+            count: not_solid,
+        });
     }
     let mesh = Mesh {
         positions: out.positions,
@@ -563,6 +631,24 @@ struct Builder<'a> {
 }
 
 impl<'a> Builder<'a> {
+    /// Object `object` of model `part` (`None`: the root).
+    fn object(&self, part: Option<&str>, object: u64) -> Result<&'a Object, LoadError> {
+        let model: &'a Model = match part {
+            None => self.model,
+            // Every part referred to was read before building.
+            Some(name) => self
+                .parts
+                .get(name)
+                .ok_or_else(|| LoadError::ZipEntryMissing {
+                    name: name.to_owned(),
+                })?,
+        };
+        model
+            .objects
+            .get(&object)
+            .ok_or(LoadError::UnknownObject { id: object })
+    }
+
     /// Places `object` of model `part` (`None`: the root) under `chain`
     /// (outermost transform first); `path` holds the objects being
     /// expanded, to refuse cycles.
@@ -582,20 +668,7 @@ impl<'a> Builder<'a> {
                 limit: MAX_COMPONENT_DEPTH,
             });
         }
-        let model: &'a Model = match part {
-            None => self.model,
-            // Every part referred to was read before building.
-            Some(name) => self
-                .parts
-                .get(name)
-                .ok_or_else(|| LoadError::ZipEntryMissing {
-                    name: name.to_owned(),
-                })?,
-        };
-        let obj = model
-            .objects
-            .get(&object)
-            .ok_or(LoadError::UnknownObject { id: object })?;
+        let obj = self.object(part, object)?;
 
         if !obj.positions.is_empty() || !obj.triangles.is_empty() {
             self.place_mesh(item, object, obj, chain)?;
