@@ -1142,6 +1142,33 @@ fn three_mf_object_types_decide_what_is_sliced() {
     );
 }
 
+/// A beam lattice's beams are part of its object's solid: an object with
+/// one is refused by name when placed (its triangles alone are another
+/// part), and ignored when no item places it.
+#[test]
+fn three_mf_beam_lattice_is_refused_when_placed() {
+    let lattice = tetra_object(2, "1").replace(
+        "</triangles></mesh>",
+        r#"</triangles><beamlattice minlength="0.1" radius="0.5"><beams><beam v1="0" v2="3"/></beams></beamlattice></mesh>"#,
+    );
+    let resources = format!("{}{lattice}", tetra_object(1, "1"));
+    let err = load_bytes(
+        &three_mf(&model(&resources, r#"<item objectid="2"/>"#)),
+        None,
+    )
+    .unwrap_err();
+    assert!(
+        matches!(&err, LoadError::Unsupported { feature, .. } if feature.contains("object 2 is a beam lattice")),
+        "{err:?}"
+    );
+    let (mesh, _) = load_bytes(
+        &three_mf(&model(&resources, r#"<item objectid="1"/>"#)),
+        None,
+    )
+    .unwrap();
+    assert_eq!(mesh.num_faces(), 4);
+}
+
 #[test]
 fn three_mf_component_cycle_is_refused() {
     let resources = r#"<object id="1"><components><component objectid="2"/></components></object><object id="2"><components><component objectid="1"/></components></object>"#;

@@ -523,3 +523,34 @@ fn open_edges_from_coincident_vertices_say_so() {
         .iter()
         .all(|d| !matches!(d, Defect::CoincidentVertex { .. })));
 }
+
+/// Warnings never hide an error, nor refuse a mesh: a 3MF beam lattice
+/// leaves thousands of vertices no face uses (warnings), and validation
+/// listed only the first 1000 defects and refused the mesh for any
+/// defect beyond them, with no error to name.
+#[test]
+fn more_warnings_than_are_listed_do_not_refuse_or_hide_an_error() {
+    let unused = 1500;
+    let with_unused = |m: Mesh| {
+        let mut pos = m.positions.clone();
+        pos.extend((0..unused).map(|i| [10.0 + f64::from(i), 0.0, 0.0]));
+        let faces = m.faces.iter().map(|t| t.map(|v| v.0)).collect();
+        Mesh::from_raw(pos, faces)
+    };
+    let r = validate(&with_unused(tetra()));
+    assert!(r.is_accepted());
+    assert_eq!(r.defects.len(), 1000);
+    assert_eq!((r.unlisted, r.unlisted_errors), (unused as usize - 1000, 0));
+    assert!(accept(&with_unused(tetra())).is_ok());
+
+    // Two tetrahedra that cross: the self-intersections, found after the
+    // unused vertices, are listed and refuse the mesh.
+    let r = validate(&with_unused(two_tetras([0.25, 0.25, 0.25], [4, 5, 6, 7])));
+    assert!(!r.is_accepted());
+    assert!(
+        r.errors()
+            .any(|d| matches!(d, Defect::SelfIntersection { .. })),
+        "{r}"
+    );
+    assert_eq!(r.unlisted_errors, 0);
+}

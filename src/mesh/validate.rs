@@ -262,10 +262,13 @@ pub struct Stats {
 pub struct Report {
     /// Counts and measures.
     pub stats: Stats,
-    /// Listed defects (at most [`MAX_LISTED_DEFECTS`]).
+    /// Listed defects: at most [`MAX_LISTED_DEFECTS`] errors and as many
+    /// warnings (so that warnings never hide an error).
     pub defects: Vec<Defect>,
     /// Defects found beyond the listed ones.
     pub unlisted: usize,
+    /// Of those, the errors.
+    pub unlisted_errors: usize,
     /// The exact signed volume.
     pub volume: Rat,
     /// The tables, when indices are in range and faces are proper triangles.
@@ -275,7 +278,7 @@ pub struct Report {
 impl Report {
     /// Whether the slicer accepts the mesh (no error-severity defect).
     pub fn is_accepted(&self) -> bool {
-        self.unlisted == 0
+        self.unlisted_errors == 0
             && self
                 .defects
                 .iter()
@@ -308,18 +311,37 @@ impl Report {
     }
 }
 
+/// The defects found, each severity listed up to [`MAX_LISTED_DEFECTS`]
+/// and counted beyond.
+#[derive(Default)]
 struct Sink {
     defects: Vec<Defect>,
+    listed_errors: usize,
     unlisted: usize,
+    unlisted_errors: usize,
 }
 
 impl Sink {
     fn push(&mut self, d: Defect) {
-        if self.defects.len() < MAX_LISTED_DEFECTS {
+        let error = d.severity() == Severity::Error;
+        let listed = if error {
+            self.listed_errors
+        } else {
+            self.defects.len() - self.listed_errors
+        };
+        if listed < MAX_LISTED_DEFECTS {
+            self.listed_errors += usize::from(error);
             self.defects.push(d);
         } else {
             self.unlisted += 1;
+            self.unlisted_errors += usize::from(error);
         }
+    }
+
+    /// `n` errors found beyond the listed ones.
+    fn count_unlisted_errors(&mut self, n: usize) {
+        self.unlisted += n;
+        self.unlisted_errors += n;
     }
 }
 
@@ -357,10 +379,7 @@ enum VolumeNeed {
 /// The report, and whether its volume was computed (else the volume is
 /// positive, and the report's value is a placeholder zero).
 fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
-    let mut sink = Sink {
-        defects: Vec::new(),
-        unlisted: 0,
-    };
+    let mut sink = Sink::default();
     let nv = mesh.num_vertices();
     if mesh.faces.is_empty() {
         sink.push(Defect::Empty);
@@ -408,6 +427,7 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
             stats,
             defects: sink.defects,
             unlisted: sink.unlisted,
+            unlisted_errors: sink.unlisted_errors,
             volume: Rat::default(),
             topology: None,
         };
@@ -522,7 +542,7 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
         // union are among the listed ones of each.
         intersecting.extend(apart.pairs);
         intersecting.sort_unstable();
-        sink.unlisted += apart.unlisted;
+        sink.count_unlisted_errors(apart.unlisted);
     }
     for (a, b) in intersecting {
         sink.push(Defect::SelfIntersection { a, b });
@@ -558,6 +578,7 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
         stats,
         defects: sink.defects,
         unlisted: sink.unlisted,
+        unlisted_errors: sink.unlisted_errors,
         volume,
         topology: closed_manifold.then_some(topo),
     };
@@ -772,8 +793,11 @@ impl fmt::Display for Report {
             };
             writeln!(f, "{tag}: {d}")?;
         }
-        if self.unlisted > 0 {
-            writeln!(f, "... and {} more defects", self.unlisted)?;
+        match (self.unlisted, self.unlisted_errors) {
+            (0, _) => {}
+            (n, 0) => writeln!(f, "... and {n} more warnings")?,
+            (n, e) if n == e => writeln!(f, "... and {n} more errors")?,
+            (n, e) => writeln!(f, "... and {n} more defects ({e} of them errors)")?,
         }
         let verdict = if self.is_accepted() {
             "accepted for slicing"

@@ -164,7 +164,7 @@ pub fn verify_value(
 fn prepare<'m>(mesh: &'m Mesh, unit: Option<&Rat>) -> Result<level::MeshCtx<'m>, VerifyError> {
     let topo = accept(mesh).map_err(|report| VerifyError::MeshRejected {
         first: report.errors().next().cloned(),
-        count: report.errors().count() + report.unlisted,
+        count: report.errors().count() + report.unlisted_errors,
     })?;
     Ok(level::MeshCtx {
         mesh,

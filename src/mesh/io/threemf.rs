@@ -260,13 +260,15 @@ impl ObjectType {
             Some("support") => ObjectType::Support,
             Some("surface") => ObjectType::Surface,
             Some("other") => ObjectType::Other,
-            Some(t) => return Err(bad_attr(
-                "object",
-                "type",
-                format!(
+            Some(t) => {
+                return Err(bad_attr(
+                    "object",
+                    "type",
+                    format!(
                     "is not an object type: `{t}` (model, solidsupport, support, surface or other)"
                 ),
-            )),
+                ))
+            }
         })
     }
 
@@ -280,6 +282,8 @@ impl ObjectType {
 #[derive(Debug, Default)]
 struct Object {
     kind: ObjectType,
+    /// Its mesh has a beam lattice (the beam lattice extension).
+    beam_lattice: bool,
     positions: Vec<[f64; 3]>,
     triangles: Vec<[u32; 3]>,
     components: Vec<Placement>,
@@ -499,6 +503,11 @@ fn parse_model(xml: &[u8], part: &str, root: bool) -> Result<Model, LoadError> {
                     model.parsed += 1;
                 }
             }
+            "beamlattice" if parent(1) == Some("mesh") => {
+                if let Some((_, obj)) = current.as_mut() {
+                    obj.beam_lattice = true;
+                }
+            }
             "component" if parent(1) == Some("components") => {
                 if let Some((_, obj)) = current.as_mut() {
                     let attrs = attributes(&e, part)?;
@@ -669,6 +678,16 @@ impl<'a> Builder<'a> {
             });
         }
         let obj = self.object(part, object)?;
+        if obj.beam_lattice {
+            // Its beams are part of the solid: slicing the triangles alone
+            // would answer for another part.
+            return Err(LoadError::Unsupported {
+                format: FORMAT,
+                feature: format!(
+                    "object {object} is a beam lattice (beam lattice extension): its beams are part of the solid"
+                ),
+            });
+        }
 
         if !obj.positions.is_empty() || !obj.triangles.is_empty() {
             self.place_mesh(item, object, obj, chain)?;
