@@ -6,10 +6,13 @@
 //! decimal coordinates (an OBJ, read as nearest doubles, snapped to the
 //! same grid).
 
+mod common;
+
 use std::io::Write;
 use std::process::Command;
 
-/// The box `[0.1, 10.3] x [-0.7, 5.2] x [0, 7.9]`, outward triangles.
+/// The box `[0.1, 10.3] x [-0.7, 5.2] x [0, 7.9]`, its corners in the
+/// order of `common::unit_box`, whose outward triangles it takes.
 const CORNERS: [[&str; 3]; 8] = [
     ["0.1", "-0.7", "0"],
     ["10.3", "-0.7", "0"],
@@ -20,27 +23,14 @@ const CORNERS: [[&str; 3]; 8] = [
     ["10.3", "5.2", "7.9"],
     ["0.1", "5.2", "7.9"],
 ];
-const TRIANGLES: [[usize; 3]; 12] = [
-    [0, 2, 1],
-    [0, 3, 2],
-    [4, 5, 6],
-    [4, 6, 7],
-    [0, 1, 5],
-    [0, 5, 4],
-    [1, 2, 6],
-    [1, 6, 5],
-    [2, 3, 7],
-    [2, 7, 6],
-    [3, 0, 4],
-    [3, 4, 7],
-];
 
 fn placed_3mf() -> Vec<u8> {
     let vertices: String = CORNERS
         .iter()
         .map(|[x, y, z]| format!(r#"<vertex x="{x}" y="{y}" z="{z}"/>"#))
         .collect();
-    let triangles: String = TRIANGLES
+    let triangles: String = common::unit_box(1.0)
+        .1
         .iter()
         .map(|[a, b, c]| format!(r#"<triangle v1="{a}" v2="{b}" v3="{c}"/>"#))
         .collect();
@@ -76,7 +66,7 @@ fn placed_obj() -> String {
     for [x, y, z] in PLACED {
         obj += &format!("v {x} {y} {z}\n");
     }
-    for [a, b, c] in TRIANGLES {
+    for [a, b, c] in common::unit_box(1.0).1 {
         obj += &format!("f {} {} {}\n", a + 1, b + 1, c + 1);
     }
     obj

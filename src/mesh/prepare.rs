@@ -1,8 +1,9 @@
-//! Input: a mesh as read and an optional snap grid. Output: the mesh as
-//! sliced, with what was done to it: snapped to the grid when asked
-//! ([`crate::mesh::snap`], the one reported rounding), then rid of the
-//! degenerate faces edge flips remove ([`crate::mesh::flip`], exact; the
-//! surface does not move).
+//! Input: a mesh as read (with the exact positions of the vertices that
+//! have no exact double, from 3MF transforms: [`ExactPositions`]) and an
+//! optional snap grid. Output: the mesh as sliced, with what was done to
+//! it: snapped to the grid when asked ([`crate::mesh::snap`], the one
+//! reported rounding), then rid of the degenerate faces edge flips remove
+//! ([`crate::mesh::flip`], exact; the surface does not move).
 //!
 //! Every front end (the command line, the Python package) takes a mesh
 //! through these steps, so the mesh hash in a result is that of the same
