@@ -56,11 +56,11 @@ pub struct Snapped {
     pub merged: usize,
 }
 
-/// Nearest integer to `r`, ties to even.
-fn round_half_even(r: &Rat) -> BigInt {
-    let (q, rem): (BigInt, BigInt) = r.numer().div_mod_floor(r.denom());
+/// Nearest integer to `num / den` (`den > 0`), ties to even.
+fn round_half_even(num: &BigInt, den: &BigInt) -> BigInt {
+    let (q, rem): (BigInt, BigInt) = num.div_mod_floor(den);
     let twice: BigInt = rem * 2;
-    match twice.cmp(r.denom()) {
+    match twice.cmp(den) {
         std::cmp::Ordering::Less => q,
         std::cmp::Ordering::Greater => q + 1,
         std::cmp::Ordering::Equal => {
@@ -79,11 +79,14 @@ fn index_rational(x: f64, q: &Rat) -> (BigInt, Rat) {
     index_of(&rat_from_f64(x), q)
 }
 
-/// As [`index_rational`], for any rational `x`.
+/// As [`index_rational`], for any rational `x`. Computed on numerators
+/// and denominators, with no greatest common divisor (the cost of big
+/// rationals here): the move comes back unreduced, equal in value.
 fn index_of(x: &Rat, q: &Rat) -> (BigInt, Rat) {
-    let n = round_half_even(&(x / q));
-    let delta = (Rat::from_integer(n.clone()) * q - x).abs();
-    (n, delta)
+    // x / q = (xn qd) / (xd qn), qn > 0; |n q - x| = |n qn xd - xn qd| / (qd xd).
+    let n = round_half_even(&(x.numer() * q.denom()), &(x.denom() * q.numer()));
+    let delta = (&n * q.numer() * x.denom() - x.numer() * q.denom()).abs();
+    (n, Rat::new_raw(delta, q.denom() * x.denom()))
 }
 
 /// As [`index_rational`] in `i128`, for `q = a / b` (`a`, `b > 0`): `n`
@@ -253,7 +256,7 @@ pub fn snap_exact(mesh: &Mesh, exact: &ExactPositions, q: &Rat) -> Result<Snappe
         mesh: Mesh { positions, faces },
         unit: q.clone(),
         moved,
-        max_move: largest.exact,
+        max_move: largest.exact.reduced(),
         merged,
     })
 }
@@ -403,15 +406,24 @@ mod tests {
     #[test]
     fn ties_go_to_even_and_range_is_checked() {
         assert_eq!(
-            round_half_even(&parse_rational("5/2").unwrap()),
+            {
+                let r = parse_rational("5/2").unwrap();
+                round_half_even(r.numer(), r.denom())
+            },
             BigInt::from(2)
         );
         assert_eq!(
-            round_half_even(&parse_rational("-5/2").unwrap()),
+            {
+                let r = parse_rational("-5/2").unwrap();
+                round_half_even(r.numer(), r.denom())
+            },
             BigInt::from(-2)
         );
         assert_eq!(
-            round_half_even(&parse_rational("7/2").unwrap()),
+            {
+                let r = parse_rational("7/2").unwrap();
+                round_half_even(r.numer(), r.denom())
+            },
             BigInt::from(4)
         );
         let m = Mesh::from_raw(vec![[1e300, 0.0, 0.0]], vec![]);

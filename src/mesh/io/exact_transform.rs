@@ -84,12 +84,19 @@ impl Dyadic {
         }
     }
 
-    /// The same value as a rational.
+    /// The same value as a rational, in lowest terms without a greatest
+    /// common divisor: the mantissa's trailing zeros are the only common
+    /// factor with a power of two.
     fn to_rat(&self) -> Rat {
-        match u32::try_from(self.e) {
-            Ok(up) => Rat::from_integer(&self.m << up),
-            // Products of finite f64 keep `e` within a few thousand.
-            Err(_) => Rat::new(self.m.clone(), BigInt::one() << self.e.unsigned_abs()),
+        let Some(tz) = self.m.trailing_zeros() else {
+            return Rat::zero();
+        };
+        let m = &self.m >> tz;
+        // Products of finite f64 keep `e` within a few thousand.
+        let e = self.e + tz as i64;
+        match u32::try_from(e) {
+            Ok(up) => Rat::from_integer(m << up),
+            Err(_) => Rat::new_raw(m, BigInt::one() << e.unsigned_abs()),
         }
     }
 
@@ -259,6 +266,25 @@ mod tests {
             apply_chain([0.5, 0.0, 0.0], &[tiny]),
             Some(Image::Exact([r(5e-324) * r(0.5), r(0.0), r(0.0)]))
         );
+    }
+
+    /// `to_rat` skips the greatest common divisor: its rationals must still
+    /// be in lowest terms (a zero as `0/1`), as `rat_to_string` and hashing
+    /// see their parts.
+    #[test]
+    fn exact_images_are_in_lowest_terms() {
+        let t = Affine([
+            0.309017, 0.951057, 0.0, -0.951057, 0.309017, 0.0, 0.0, 0.0, 1.0, 125.3, 0.0, 24.0,
+        ]);
+        for p in [[0.1, 0.2, 0.0], [0.1, 0.0, -24.0], [3.0, -4.5, 1e-300]] {
+            let Some(Image::Exact(q)) = apply_chain(p, &[t]) else {
+                panic!("{p:?} has an image of doubles");
+            };
+            for c in q {
+                let low = c.reduced();
+                assert_eq!((c.numer(), c.denom()), (low.numer(), low.denom()));
+            }
+        }
     }
 
     #[test]
