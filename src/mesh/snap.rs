@@ -196,31 +196,20 @@ pub fn snap_exact(mesh: &Mesh, exact: &ExactPositions, q: &Rat) -> Result<Snappe
         let vid = VertexId::from_idx(v);
         let mut out = [0.0f64; 3];
         let mut changed = false;
-        if let Some((_, x)) = exact.next_if(|(id, _)| *id == vid) {
-            for (slot, x) in out.iter_mut().zip(x) {
-                let (n, delta) = index_of(x, q);
-                if !delta.is_zero() {
-                    changed = true;
-                    largest.offer(delta);
-                }
-                *slot = grid_index(n.to_i64()).ok_or_else(|| SnapError::OutOfRange {
-                    vertex: vid,
-                    q: rat_to_string(q),
-                })?;
-            }
-            moved += changed as usize;
-            snapped.push(out);
-            continue;
-        }
+        // A vertex with an exact position (not a double) is snapped from it.
+        let given = exact.next_if(|(id, _)| *id == vid).map(|(_, x)| x);
         for k in 0..3 {
-            if !p[k].is_finite() {
+            if given.is_none() && !p[k].is_finite() {
                 return Err(SnapError::NonFinite(vid));
             }
             let out_of_range = || SnapError::OutOfRange {
                 vertex: vid,
                 q: rat_to_string(q),
             };
-            let n64 = match parts.and_then(|ab| Some((ab, index_i128(p[k], ab)?))) {
+            let fast = parts
+                .filter(|_| given.is_none())
+                .and_then(|ab| Some((ab, index_i128(p[k], ab)?)));
+            let n64 = match fast {
                 Some((ab, (n, t, d))) => {
                     if t != 0 {
                         changed = true;
@@ -229,7 +218,10 @@ pub fn snap_exact(mesh: &Mesh, exact: &ExactPositions, q: &Rat) -> Result<Snappe
                     i64::try_from(n).ok()
                 }
                 None => {
-                    let (n, delta) = index_rational(p[k], q);
+                    let (n, delta) = match given {
+                        Some(x) => index_of(&x[k], q),
+                        None => index_rational(p[k], q),
+                    };
                     if !delta.is_zero() {
                         changed = true;
                         largest.offer(delta);

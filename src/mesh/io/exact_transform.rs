@@ -276,6 +276,8 @@ mod tests {
         let t = Affine([
             0.309017, 0.951057, 0.0, -0.951057, 0.309017, 0.0, 0.0, 0.0, 1.0, 125.3, 0.0, 24.0,
         ]);
+        // Sample points (not tolerances): plain decimals, one whose z
+        // lands on zero, one with a tiny coordinate.
         for p in [[0.1, 0.2, 0.0], [0.1, 0.0, -24.0], [3.0, -4.5, 1e-300]] {
             let Some(Image::Exact(q)) = apply_chain(p, &[t]) else {
                 panic!("{p:?} has an image of doubles");

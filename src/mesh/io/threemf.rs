@@ -83,26 +83,29 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport, ExactPositions), L
     let cap = RATIO_FREE_BYTES.max(package.saturating_mul(MAX_RATIO));
     let mut inflated = xml.len() as u64;
     drop(xml);
-    let mut parts = HashMap::new();
-    let referred = model
+    // In name order: which part an error names does not depend on the
+    // objects' (hashed) order.
+    let mut referred: Vec<&str> = model
         .items
         .iter()
         .chain(model.objects.values().flat_map(|o| &o.components))
-        .filter_map(|p| p.part.as_deref());
+        .filter_map(|p| p.part.as_deref())
+        .collect();
+    referred.sort_unstable();
+    referred.dedup();
+    let mut parts = HashMap::new();
     for name in referred {
-        if !parts.contains_key(name) {
-            let xml = read_part(&mut archive, name)?;
-            inflated = inflated.saturating_add(xml.len() as u64);
-            if inflated > cap {
-                return Err(LoadError::ZipBomb {
-                    name: name.to_owned(),
-                    compressed: package,
-                    inflated,
-                    ratio_limit: MAX_RATIO,
-                });
-            }
-            parts.insert(name.to_owned(), parse_model(&xml, name, false)?);
+        let xml = read_part(&mut archive, name)?;
+        inflated = inflated.saturating_add(xml.len() as u64);
+        if inflated > cap {
+            return Err(LoadError::ZipBomb {
+                name: name.to_owned(),
+                compressed: package,
+                inflated,
+                ratio_limit: MAX_RATIO,
+            });
         }
+        parts.insert(name.to_owned(), parse_model(&xml, name, false)?);
     }
     build(&model, &parts)
 }
