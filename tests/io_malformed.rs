@@ -250,6 +250,53 @@ fn ascii_stl_facet_with_two_vertices_cannot_be_triangulated() {
     );
 }
 
+/// A `facet` with no `normal` (`facet` then `outer loop`, as
+/// Online3DViewer's test files have it) is read: the normal is not used.
+/// It is counted in a note; a facet with a normal beside it is not.
+#[test]
+fn ascii_stl_facet_without_a_normal_is_read_and_counted() {
+    let text = b"solid t\nfacet\n outer loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n\
+facet normal 0 0 1 outer loop vertex 0 0 0 vertex 0 0 1 vertex 1 0 0 endloop endfacet\nendsolid t\n";
+    let (mesh, report) = load_bytes(text, None).unwrap();
+    assert_eq!(report.format, MeshFormat::StlAscii);
+    assert_eq!(
+        mesh.positions,
+        vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0]
+        ]
+    );
+    assert_eq!(ids(&mesh), vec![[0, 1, 2], [0, 3, 1]]);
+    assert!(
+        report.notes.contains(&LoadNote::Ignored {
+            kind: "facets without a normal (normals are not used)".into(),
+            count: 1
+        }),
+        "{:?}",
+        report.notes
+    );
+}
+
+/// Text that does not start with `solid` and is no binary STL of its size
+/// (here: comments before `solid`) is refused as ASCII STL at line 1,
+/// naming the word, not as a binary file whose "triangle count" is four
+/// characters of text.
+#[test]
+fn text_stl_not_starting_with_solid_is_named_as_ascii() {
+    let text = b"# comment\nsolid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n# padding to pass the 84-byte binary header\n";
+    let err = load_bytes(text, Some(MeshFormat::StlBinary)).unwrap_err();
+    match err {
+        LoadError::Parse {
+            format: MeshFormat::StlAscii,
+            line: Some(1),
+            message,
+        } => assert!(message.contains("expected `solid`, found `#`"), "{message}"),
+        e => panic!("{e:?}"),
+    }
+}
+
 // ---------------------------------------------------------------- OBJ
 
 #[test]
@@ -273,6 +320,27 @@ fn obj_quad_is_triangulated_with_a_note() {
         kind: "line and point elements".into(),
         count: 1
     }));
+}
+
+/// A `#` after a face's ids starts a comment (Online3DViewer's
+/// `cube_with_materials_comments.obj`); before, the `#` was read as an id.
+#[test]
+fn obj_comment_after_face_ids_is_a_comment() {
+    let text = b"v 0 0 0 # a\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3 # inline comment 4\nf 1/1/1 4/2/2 2/3/3 #tight\n";
+    let (mesh, _) = load_bytes(text, Some(MeshFormat::Obj)).unwrap();
+    assert_eq!(ids(&mesh), vec![[0, 1, 2], [0, 3, 1]]);
+    // A `#` glued to an id is not a comment: the id is not an integer.
+    let err = load_bytes(b"v 0 0 0\nf 1 1#c 1\n", Some(MeshFormat::Obj)).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            LoadError::InvalidIndex {
+                reason: InvalidIndexReason::NotAnInteger,
+                ..
+            }
+        ),
+        "{err:?}"
+    );
 }
 
 #[test]
@@ -571,6 +639,72 @@ fn ply_header(format: &str, vertex_props: &str, nv: usize, face_prop: &str, nf: 
         "ply\nformat {format} 1.0\ncomment test\nelement vertex {nv}\n{vertex_props}element face {nf}\n{face_prop}\nend_header\n"
     )
     .into_bytes()
+}
+
+/// Lines ended by a lone `\r` (classic Mac OS; Rhino 6 writes PLY headers
+/// so, draco keeps such a file) read as with `\n`: a binary file whose
+/// header ends its lines with `\r` (and whose payload holds `\r` bytes,
+/// which stay as they are), and an ASCII file with `\r` everywhere.
+#[test]
+fn ply_with_carriage_return_line_ends_reads_as_with_newlines() {
+    let cr = |b: &[u8]| -> Vec<u8> {
+        b.iter()
+            .map(|&c| if c == b'\n' { b'\r' } else { c })
+            .collect()
+    };
+    // A vertex whose x is 0x0d0d0d0d as little-endian f32 bytes: a `\r`
+    // in the payload.
+    let odd = f32::from_le_bytes([b'\r'; 4]);
+    let mut header = ply_header(
+        "binary_little_endian",
+        "property float x\nproperty float y\nproperty float z\n",
+        3,
+        "property list uchar int vertex_indices",
+        1,
+    );
+    let mut payload = Vec::new();
+    for p in [[odd, 0.0, 0.0], [1.0, 0.1, 0.0], [0.0, 1.0, 13.0]] {
+        for c in p {
+            payload.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    payload.push(3);
+    for i in [0i32, 1, 2] {
+        payload.extend_from_slice(&i.to_le_bytes());
+    }
+    let mut lf = header.clone();
+    lf.extend_from_slice(&payload);
+    header = cr(&header);
+    header.extend_from_slice(&payload);
+    let (want, _) = load_bytes(&lf, None).unwrap();
+    let (got, report) = load_bytes(&header, None).unwrap();
+    assert_eq!(report.format, MeshFormat::PlyBinaryLittleEndian);
+    assert_eq!(got.positions, want.positions);
+    assert_eq!(got.positions[0][0], f64::from(odd));
+    assert_eq!(ids(&got), vec![[0, 1, 2]]);
+
+    let mut ascii = ply_header(
+        "ascii",
+        "property double x\nproperty double y\nproperty double z\n",
+        4,
+        "property list uchar int vertex_indices",
+        2,
+    );
+    ascii.extend_from_slice(b"0 0 0\n1 0 0\n0 1 0\n0 0 0.1\n3 0 2 1\n3 0 1 3\n");
+    let (want, _) = load_bytes(&ascii, None).unwrap();
+    let (got, report) = load_bytes(&cr(&ascii), None).unwrap();
+    assert_eq!(report.format, MeshFormat::PlyAscii);
+    assert_eq!(got.positions, want.positions);
+    assert_eq!(ids(&got), vec![[0, 2, 1], [0, 1, 3]]);
+    // A parse error names the line counted by `\r`: the header's 10 lines,
+    // 4 vertices, then the second face, line 16.
+    let mut broken = cr(&ascii);
+    let at = broken.len() - 2;
+    broken[at] = b'x';
+    match load_bytes(&broken, None).unwrap_err() {
+        LoadError::Parse { line, .. } => assert_eq!(line, Some(16)),
+        e => panic!("{e:?}"),
+    }
 }
 
 #[test]

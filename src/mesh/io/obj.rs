@@ -11,7 +11,8 @@
 //! an index beyond `u32` are errors. Indices past the vertex count load as
 //! they are. Texture and normal indices (`v/vt/vn`) are ignored, as are
 //! `vt`, `vn`, materials, groups, smoothing; `l` and `p` elements are counted
-//! in a note.
+//! in a note. A `#` starts a comment, on its own line or after a face's
+//! ids.
 
 use std::io::Write;
 
@@ -77,7 +78,8 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
             }
             b"f" | b"fo" => {
                 ids.clear();
-                for t in toks {
+                // A `#` starts a comment, after the ids as on its own line.
+                for t in toks.take_while(|t| !t.starts_with(b"#")) {
                     let v = t.split(|&b| b == b'/').next().unwrap_or(t);
                     ids.push(parse_index(v, positions.len(), line_no)?);
                 }

@@ -270,6 +270,8 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
             message: "a PLY file starts with the line `ply`".to_owned(),
         });
     }
+    let with_newlines = classic_mac_line_ends(bytes);
+    let bytes = with_newlines.as_deref().unwrap_or(bytes);
     let parser = Parser::<Element>::new();
     let mut reader = Reader::new(Cursor::new(bytes));
     let header = parser
@@ -362,6 +364,31 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
         faces: sink.faces,
     };
     Ok((mesh, LoadReport { format, notes }))
+}
+
+/// A copy of a file whose lines end in a lone `\r` (classic Mac OS line
+/// ends, as Rhino 6 writes PLY headers), with each of those `\r` made a
+/// `\n`: in the header of a binary file, everywhere in an ASCII one.
+/// `None` when the `ply` line ends otherwise. Byte for byte the same
+/// length, so the payload and the line numbers do not move.
+fn classic_mac_line_ends(bytes: &[u8]) -> Option<Vec<u8>> {
+    if !bytes.starts_with(b"ply\r") || bytes.get(4) == Some(&b'\n') {
+        return None;
+    }
+    let end = match encoding_hint(bytes) {
+        MeshFormat::PlyAscii => bytes.len(),
+        _ => {
+            const END: &[u8] = b"end_header\r";
+            bytes.windows(END.len()).position(|w| w == END)? + END.len()
+        }
+    };
+    let mut out = bytes.to_vec();
+    for i in 0..end {
+        if out[i] == b'\r' && out.get(i + 1) != Some(&b'\n') {
+            out[i] = b'\n';
+        }
+    }
+    Some(out)
 }
 
 fn negative_index(format: MeshFormat, v: i64) -> LoadError {

@@ -7,8 +7,9 @@
 //!
 //! Binary or ASCII is decided by content: a file of exactly 84 + 50 n bytes
 //! (n read at offset 80) is binary even if it starts with `solid`; a file
-//! starting with `solid` is read as ASCII, falling back to binary only when
-//! the ASCII parse fails and the bytes are not text.
+//! starting with `solid`, or whose first kilobyte is text, is read as
+//! ASCII, falling back to binary only when the ASCII parse fails and the
+//! bytes are not text.
 
 use std::io::Write;
 
@@ -43,7 +44,7 @@ fn starts_with_solid(bytes: &[u8]) -> bool {
         && !matches!(rest.get(5), Some(&b) if !is_space(b))
 }
 
-/// Whether the first kilobyte after the header looks like text.
+/// Whether the file's first kilobyte looks like text.
 fn looks_like_text(bytes: &[u8]) -> bool {
     bytes
         .iter()
@@ -56,7 +57,11 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
     if binary_size_matches(bytes) {
         return read_binary(bytes);
     }
-    if starts_with_solid(bytes) {
+    // Text that is no binary STL of its size and does not start with
+    // `solid` (comments before it, a typo): the ASCII reader names the
+    // first word, which says more than a binary triangle count read from
+    // characters. (An empty file stays a truncated binary one.)
+    if starts_with_solid(bytes) || (!bytes.is_empty() && looks_like_text(bytes)) {
         return match read_ascii(bytes) {
             Ok(r) => Ok(r),
             Err(e) => {
@@ -159,6 +164,7 @@ fn report(welded: Welded, format: MeshFormat, mut notes: Vec<LoadNote>) -> (Mesh
 }
 
 /// Tokens of an ASCII file with their 1-based line numbers.
+#[derive(Clone)]
 struct Tokens<'a> {
     bytes: &'a [u8],
     pos: usize,
@@ -248,6 +254,7 @@ fn read_ascii(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
     let mut loop_vertices: Vec<[f64; 3]> = Vec::with_capacity(3);
     let mut solids = 0usize;
     let mut unreadable_normals = 0usize;
+    let mut missing_normals = 0usize;
     let mut stray_words = 0usize;
     let mut endfacet_line = None;
 
@@ -298,27 +305,38 @@ fn read_ascii(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
             // `facet normal nx ny nz`: the normal is informative only (the
             // orientation is the vertex order's), so a component that is
             // not a number (`weirdvalue`, as exporters have written) is
-            // counted, not refused. Exactly three tokens are taken: a
-            // normal missing one would take `outer`, which is refused.
-            let after_facet = tokens.line;
-            expect(&mut tokens, "normal", after_facet)?;
-            let mut readable = true;
-            for _ in 0..3 {
-                let l = tokens.line;
-                let (t, line) = tokens.next().ok_or_else(|| {
-                    parse_err(l, "unexpected end of file: expected a number".to_owned())
-                })?;
-                if t.eq_ignore_ascii_case(b"outer") {
-                    return Err(parse_err(
-                        line,
-                        "expected a number, found `outer`".to_owned(),
-                    ));
+            // counted, not refused, and so is a `facet` with no normal at
+            // all (`facet` then `outer loop`). Exactly three tokens are
+            // taken after `normal`: a normal missing one would take
+            // `outer`, which is refused.
+            let mut ahead = tokens.clone();
+            if ahead
+                .next()
+                .is_some_and(|(t, _)| t.eq_ignore_ascii_case(b"outer"))
+            {
+                tokens = ahead;
+                missing_normals += 1;
+            } else {
+                let after_facet = tokens.line;
+                expect(&mut tokens, "normal", after_facet)?;
+                let mut readable = true;
+                for _ in 0..3 {
+                    let l = tokens.line;
+                    let (t, line) = tokens.next().ok_or_else(|| {
+                        parse_err(l, "unexpected end of file: expected a number".to_owned())
+                    })?;
+                    if t.eq_ignore_ascii_case(b"outer") {
+                        return Err(parse_err(
+                            line,
+                            "expected a number, found `outer`".to_owned(),
+                        ));
+                    }
+                    readable &= parse_f64(t).is_some();
                 }
-                readable &= parse_f64(t).is_some();
+                unreadable_normals += usize::from(!readable);
+                let l = tokens.line;
+                expect(&mut tokens, "outer", l)?;
             }
-            unreadable_normals += usize::from(!readable);
-            let l = tokens.line;
-            expect(&mut tokens, "outer", l)?;
             let l = tokens.line;
             expect(&mut tokens, "loop", l)?;
             loop_vertices.clear();
@@ -406,6 +424,12 @@ fn read_ascii(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
         notes.push(LoadNote::Ignored {
             kind: "facet normals that are not numbers (normals are not used)".to_owned(),
             count: unreadable_normals,
+        });
+    }
+    if missing_normals > 0 {
+        notes.push(LoadNote::Ignored {
+            kind: "facets without a normal (normals are not used)".to_owned(),
+            count: missing_normals,
         });
     }
     if stray_words > 0 {
