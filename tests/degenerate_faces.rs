@@ -441,3 +441,53 @@ fn an_unrepairable_mesh_exits_3_naming_the_face_and_writes_nothing() {
     assert_eq!(code, 3);
     assert!(said.contains("error: face f13 is degenerate"), "{said}");
 }
+
+/// A vertex a CAD export puts a hair from another (here 1e-4 along the
+/// box's diagonal from vertex 0, as `f32`) is a valid mesh as read; on the
+/// grid 1/1000 both land on one grid point, two faces repeat a vertex, and
+/// the mesh is refused (no edge flip removes a face with two corners on
+/// one vertex). The command line says snapping did it and how to avoid
+/// it, and reports the refused mesh in the file's units, not in grid
+/// steps.
+#[test]
+fn faces_snapping_collapses_are_refused_with_the_snap_named() {
+    let (mut got, _) = cad_box_with_sliver();
+    got.positions[8] = [f64::from(1e-4f32), 0.0, f64::from(6e-5f32)];
+    assert!(validate(&got).is_accepted(), "{}", validate(&got));
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("near.off");
+    let mut text = format!("OFF\n{} {} 0\n", got.num_vertices(), got.num_faces());
+    for p in &got.positions {
+        text += &format!("{:?} {:?} {:?}\n", p[0], p[1], p[2]);
+    }
+    for t in &got.faces {
+        text += &format!("3 {} {} {}\n", t[0].0, t[1].0, t[2].0);
+    }
+    std::fs::write(&file, text).unwrap();
+    let out = dir.path().join("out.json");
+    let s = |p: &std::path::Path| p.to_str().unwrap().to_owned();
+    let (code, _, err) = common::wmslice(&[
+        "slice",
+        &s(&file),
+        "--snap",
+        "0.001",
+        "--at",
+        "0.3",
+        "-o",
+        &s(&out),
+    ]);
+    assert_eq!(code, 3, "{err}");
+    assert!(!out.exists());
+    assert!(err.contains("1 vertices merged"), "{err}");
+    assert!(
+        err.contains("snapping put two corners of 2 faces on one grid point"),
+        "{err}"
+    );
+    assert!(err.contains("repeats a vertex"), "{err}");
+    // The box is 1 x 1 x 0.6 in the file's units (1000 x 1000 x 600 grid
+    // steps).
+    assert!(err.contains("bbox       [0, 0, 0] .. [1, 1, 0.6]"), "{err}");
+    // The same file on a grid fine enough keeps the vertices apart.
+    let (code, _, err) = common::wmslice(&["check", &s(&file), "--snap", "0.000001"]);
+    assert_eq!(code, 0, "{err}");
+}

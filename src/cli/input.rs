@@ -53,6 +53,14 @@ fn flips_note(flips: &[Flip]) -> String {
     )
 }
 
+/// How many faces use one vertex twice (by id).
+fn collapsed_faces(mesh: &wmslice::mesh::Mesh) -> usize {
+    mesh.faces
+        .iter()
+        .filter(|[a, b, c]| a == b || b == c || a == c)
+        .count()
+}
+
 /// Reads the mesh, snaps it when asked and removes degenerate faces
 /// ([`wmslice::mesh::prepare`]), with notes for the user.
 pub fn load_input(spec: &str, snap_arg: Option<&str>) -> Result<Input, Failure> {
@@ -89,6 +97,7 @@ pub fn load_input(spec: &str, snap_arg: Option<&str>) -> Result<Input, Failure> 
             error: anyhow!("no such file or built-in dataset: {spec} (see `wmslice gen --list`)"),
         });
     };
+    let collapsed_before = collapsed_faces(&mesh);
     let p = prepare_exact(mesh, &exact, q.as_ref()).map_err(|e| match e {
         PrepareError::NotDoubles(e) => Failure {
             code: ExitCode::Input,
@@ -107,6 +116,12 @@ pub fn load_input(spec: &str, snap_arg: Option<&str>) -> Result<Input, Failure> 
             rat_to_string(&s.max_move),
             rat_to_f64(&s.max_move),
             s.merged
+        ));
+    }
+    let collapsed = collapsed_faces(&p.mesh).saturating_sub(collapsed_before);
+    if collapsed > 0 {
+        notes.push(format!(
+            "snapping put two corners of {collapsed} faces on one grid point: each repeats a vertex, which validation refuses; a finer grid keeps them apart"
         ));
     }
     if !p.flips.is_empty() {

@@ -239,7 +239,9 @@ impl<'m> Slicer<'m> {
                 (MeshGrid::new(p), EdgeGridEnds::new(p))
             },
         );
-        let topo = accepted.map_err(SliceError::InvalidMesh)?;
+        // A snapped mesh is stored in grid steps: the report's measures in
+        // the file's units.
+        let topo = accepted.map_err(|r| SliceError::InvalidMesh(Box::new(r.in_units(&unit))))?;
         Ok(Slicer {
             mesh,
             topo,
