@@ -174,7 +174,8 @@ pub struct LevelSet {
 #[derive(Debug, thiserror::Error)]
 pub enum SliceError {
     /// The mesh is not accepted (SPEC section 1); the report names every
-    /// defect.
+    /// defect, its measures (volume, bounding box) in the mesh's units
+    /// times the slicer's unit (a snapped mesh's file units).
     #[error("the mesh is not accepted for slicing (SPEC 1: closed, oriented, manifold, no fold, self-intersection or degenerate face):\n{0}")]
     InvalidMesh(Box<Report>),
     /// Chaining failed: an internal error.
