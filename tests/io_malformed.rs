@@ -1500,6 +1500,40 @@ fn utf16_text_is_named_as_such_in_every_text_format() {
     );
 }
 
+/// A UTF-8 byte-order mark before the text is skipped in every text format
+/// (recognized by content too): the mesh is the one read without it.
+/// Before, an OBJ's first `v` glued to the mark went unread (every index
+/// then named the next vertex), and STL, OFF and PLY were refused. A
+/// binary STL whose header starts with the same three bytes is read as
+/// binary.
+#[test]
+fn utf8_byte_order_mark_is_skipped_in_every_text_format() {
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    let off = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    let stl = "solid t\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n";
+    let ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    for (text, format) in [
+        (obj, MeshFormat::Obj),
+        (off, MeshFormat::Off),
+        (stl, MeshFormat::StlAscii),
+        (ply, MeshFormat::PlyAscii),
+    ] {
+        let (want, _) = load_bytes(text.as_bytes(), Some(format)).unwrap();
+        let marked = [b"\xEF\xBB\xBF".as_slice(), text.as_bytes()].concat();
+        for hint in [Some(format), None] {
+            let (got, report) =
+                load_bytes(&marked, hint).unwrap_or_else(|e| panic!("{format:?} {hint:?}: {e}"));
+            assert_eq!(report.format, format);
+            assert_eq!(got.positions, want.positions, "{format:?}");
+            assert_eq!(ids(&got), ids(&want), "{format:?}");
+        }
+    }
+    let binary = binary_stl(b"\xEF\xBB\xBFsolid", &TWO_TRIANGLES);
+    let (mesh, report) = load_bytes(&binary, Some(MeshFormat::StlAscii)).unwrap();
+    assert_eq!(report.format, MeshFormat::StlBinary);
+    assert_eq!(mesh.faces.len(), 2);
+}
+
 // ---------------------------------------------------------------- detection
 
 #[test]

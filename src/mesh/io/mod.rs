@@ -355,6 +355,7 @@ pub fn load_bytes_exact(
     bytes: &[u8],
     hint: Option<MeshFormat>,
 ) -> Result<(Mesh, LoadReport, ExactPositions), LoadError> {
+    let bytes = without_utf8_bom(bytes);
     let format = match hint {
         Some(f) => f,
         None => detect_format(bytes).ok_or(LoadError::UnknownFormat { extension: None })?,
@@ -372,6 +373,18 @@ pub fn load_bytes_exact(
         MeshFormat::ThreeMf => return threemf::read(bytes),
     };
     doubles.map(|(mesh, report)| (mesh, report, ExactPositions::default()))
+}
+
+/// The bytes after a UTF-8 byte-order mark (as Windows tools save text
+/// "UTF-8 with BOM"), which would otherwise glue itself to the first
+/// keyword (an OBJ's first `v` went unread, shifting every index). A file
+/// of a binary STL's exact size keeps its bytes: its 80-byte header may
+/// start with any.
+fn without_utf8_bom(bytes: &[u8]) -> &[u8] {
+    match bytes.strip_prefix(b"\xEF\xBB\xBF") {
+        Some(rest) if !stl::binary_size_matches(bytes) => rest,
+        _ => bytes,
+    }
 }
 
 /// A text format's file that starts with a UTF-16 byte-order mark (as
