@@ -1534,6 +1534,46 @@ fn utf8_byte_order_mark_is_skipped_in_every_text_format() {
     assert_eq!(mesh.faces.len(), 2);
 }
 
+/// OBJ and OFF whose lines end in a lone `\r` (classic Mac OS) read as
+/// their `\n` twins, and so do mixed line ends; an error names the line
+/// counted by any of them. Before, an OBJ so written was one line: one
+/// vertex, no face.
+#[test]
+fn obj_and_off_with_lone_carriage_returns_read_as_with_newlines() {
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    let off = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    for (text, format) in [(obj, MeshFormat::Obj), (off, MeshFormat::Off)] {
+        let (want, _) = load_bytes(text.as_bytes(), Some(format)).unwrap();
+        assert_eq!(want.faces.len(), 4);
+        let cr = text.replace('\n', "\r");
+        // Every third line end `\r\n`, every other one of the rest `\r`.
+        let mixed: String = text
+            .split_inclusive('\n')
+            .enumerate()
+            .map(|(i, l)| match i % 3 {
+                0 => l.replace('\n', "\r\n"),
+                1 => l.replace('\n', "\r"),
+                _ => l.to_owned(),
+            })
+            .collect();
+        for bytes in [cr, mixed] {
+            for hint in [Some(format), None] {
+                let (got, report) = load_bytes(bytes.as_bytes(), hint)
+                    .unwrap_or_else(|e| panic!("{format:?} {bytes:?}: {e}"));
+                assert_eq!(report.format, format);
+                assert_eq!(got.positions, want.positions);
+                assert_eq!(ids(&got), ids(&want));
+            }
+        }
+    }
+    // Line 6 of the `\r` file holds the bad index.
+    let bad = obj.replace("f 1 2 4", "f 1 2 x").replace('\n', "\r");
+    match load_bytes(bad.as_bytes(), Some(MeshFormat::Obj)).unwrap_err() {
+        LoadError::InvalidIndex { line, .. } => assert_eq!(line, Some(6)),
+        e => panic!("{e:?}"),
+    }
+}
+
 // ---------------------------------------------------------------- detection
 
 #[test]

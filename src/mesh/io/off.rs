@@ -231,18 +231,16 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
     ))
 }
 
-/// The byte offset just past the end of 1-based line `line`.
+/// The byte offset just past the end of 1-based line `line` (its line end
+/// as [`Lines`] reads it).
 fn line_end_offset(bytes: &[u8], line: usize) -> usize {
-    let mut seen = 0usize;
-    for (i, &b) in bytes.iter().enumerate() {
-        if b == b'\n' {
-            seen += 1;
-            if seen == line {
-                return i + 1;
-            }
+    let mut lines = Lines::new(bytes);
+    for _ in 0..line {
+        if lines.next().is_none() {
+            return bytes.len();
         }
     }
-    bytes.len()
+    bytes.len() - lines.rest_len()
 }
 
 /// Writes OFF with shortest round-trip coordinates.

@@ -9,6 +9,8 @@ use super::{LoadError, LoadNote, MeshFormat, MAX_ELEMENTS};
 use crate::ids::VertexId;
 
 /// Iterator over `(1-based line number, line without its end of line)`.
+/// A line ends at `\n`, `\r\n`, or a lone `\r` (classic Mac OS files,
+/// as the ASCII STL reader also takes them).
 pub(super) struct Lines<'a> {
     rest: &'a [u8],
     line: usize,
@@ -23,6 +25,11 @@ impl<'a> Lines<'a> {
             done: false,
         }
     }
+
+    /// How many bytes follow the lines read so far.
+    pub(super) fn rest_len(&self) -> usize {
+        self.rest.len()
+    }
 }
 
 impl<'a> Iterator for Lines<'a> {
@@ -33,15 +40,17 @@ impl<'a> Iterator for Lines<'a> {
             return None;
         }
         self.line = self.line.saturating_add(1);
-        let (line, rest) = match self.rest.iter().position(|&b| b == b'\n') {
-            Some(i) => (&self.rest[..i], &self.rest[i + 1..]),
+        let (line, rest) = match memchr::memchr2(b'\n', b'\r', self.rest) {
+            Some(i) => {
+                let crlf = self.rest[i] == b'\r' && self.rest.get(i + 1) == Some(&b'\n');
+                (&self.rest[..i], &self.rest[i + 1 + usize::from(crlf)..])
+            }
             None => {
                 self.done = true;
                 (self.rest, &self.rest[self.rest.len()..])
             }
         };
         self.rest = rest;
-        let line = line.strip_suffix(b"\r").unwrap_or(line);
         Some((self.line, line))
     }
 }
