@@ -403,20 +403,25 @@ fn a_cad_sliver_made_exact_by_snapping_is_flipped_sliced_and_verified() {
     );
 }
 
+/// `mesh` as OFF text, every coordinate exactly (shortest round-trip).
+fn off_text(mesh: &Mesh) -> String {
+    let mut text = format!("OFF\n{} {} 0\n", mesh.num_vertices(), mesh.num_faces());
+    for p in &mesh.positions {
+        text += &format!("{:?} {:?} {:?}\n", p[0], p[1], p[2]);
+    }
+    for t in &mesh.faces {
+        text += &format!("3 {} {} {}\n", t[0].0, t[1].0, t[2].0);
+    }
+    text
+}
+
 #[test]
 fn an_unrepairable_mesh_exits_3_naming_the_face_and_writes_nothing() {
     let (mut got, _) = cad_box_with_sliver();
     got.positions[8] = got.positions[0];
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("bad.off");
-    let mut text = format!("OFF\n{} {} 0\n", got.num_vertices(), got.num_faces());
-    for p in &got.positions {
-        text += &format!("{:?} {:?} {:?}\n", p[0], p[1], p[2]);
-    }
-    for t in &got.faces {
-        text += &format!("3 {} {} {}\n", t[0].0, t[1].0, t[2].0);
-    }
-    std::fs::write(&file, text).unwrap();
+    std::fs::write(&file, off_text(&got)).unwrap();
     let out = dir.path().join("out.json");
     let s = |p: &std::path::Path| p.to_str().unwrap().to_owned();
     let (code, _, err) = common::wmslice(&[
@@ -456,14 +461,7 @@ fn faces_snapping_collapses_are_refused_with_the_snap_named() {
     assert!(validate(&got).is_accepted(), "{}", validate(&got));
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("near.off");
-    let mut text = format!("OFF\n{} {} 0\n", got.num_vertices(), got.num_faces());
-    for p in &got.positions {
-        text += &format!("{:?} {:?} {:?}\n", p[0], p[1], p[2]);
-    }
-    for t in &got.faces {
-        text += &format!("3 {} {} {}\n", t[0].0, t[1].0, t[2].0);
-    }
-    std::fs::write(&file, text).unwrap();
+    std::fs::write(&file, off_text(&got)).unwrap();
     let out = dir.path().join("out.json");
     let s = |p: &std::path::Path| p.to_str().unwrap().to_owned();
     let (code, _, err) = common::wmslice(&[
