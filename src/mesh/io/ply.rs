@@ -20,7 +20,7 @@ use ply_rs_bw::ply::{
 };
 use ply_rs_bw::writer::Writer;
 
-use super::text::FaceSink;
+use super::text::{is_lone_cr, FaceSink};
 use super::{write_err, LoadError, LoadNote, LoadReport, MeshFormat, SaveError, MAX_ELEMENTS};
 use crate::mesh::Mesh;
 
@@ -383,10 +383,8 @@ fn classic_mac_line_ends(bytes: &[u8]) -> Option<Vec<u8>> {
         }
     };
     let mut out = bytes.to_vec();
-    for i in 0..end {
-        if out[i] == b'\r' && out.get(i + 1) != Some(&b'\n') {
-            out[i] = b'\n';
-        }
+    for i in (0..end).filter(|&i| is_lone_cr(bytes, i)) {
+        out[i] = b'\n';
     }
     Some(out)
 }

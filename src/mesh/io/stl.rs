@@ -175,11 +175,7 @@ impl<'a> Tokens<'a> {
     /// Whether the byte at `pos` ends a line: `\n`, or a `\r` not followed
     /// by `\n` (classic Mac OS line ends; `\r\n` ends at its `\n`).
     fn ends_line(&self, pos: usize) -> bool {
-        match self.bytes.get(pos) {
-            Some(b'\n') => true,
-            Some(b'\r') => self.bytes.get(pos + 1) != Some(&b'\n'),
-            _ => false,
-        }
+        self.bytes.get(pos) == Some(&b'\n') || text::is_lone_cr(self.bytes, pos)
     }
 
     fn next(&mut self) -> Option<(&'a [u8], usize)> {

@@ -55,6 +55,12 @@ impl<'a> Iterator for Lines<'a> {
     }
 }
 
+/// Whether `bytes[i]` is a `\r` that ends a line by itself (classic Mac
+/// OS line ends), not the first half of `\r\n`.
+pub(super) fn is_lone_cr(bytes: &[u8], i: usize) -> bool {
+    bytes.get(i) == Some(&b'\r') && bytes.get(i + 1) != Some(&b'\n')
+}
+
 /// Whether a byte separates tokens (ASCII whitespace, and NUL, which some
 /// exporters pad text files with).
 #[inline]
