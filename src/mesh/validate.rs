@@ -242,19 +242,22 @@ pub struct Stats {
     pub vertices: usize,
     /// Number of faces.
     pub faces: usize,
-    /// Number of undirected edges.
-    pub edges: usize,
-    /// Connected components (of faces across shared edges).
-    pub components: usize,
-    /// V - E + F over the used vertices.
-    pub euler_characteristic: i64,
+    /// Number of undirected edges; `None` (not counted) when a face
+    /// repeats a vertex or names one that does not exist.
+    pub edges: Option<usize>,
+    /// Connected components (of faces across shared edges); `None` as for
+    /// `edges`.
+    pub components: Option<usize>,
+    /// V - E + F over the used vertices; `None` as for `edges`.
+    pub euler_characteristic: Option<i64>,
     /// `(2 C - chi) / 2` for a closed orientable surface, else `None`.
     pub genus: Option<i64>,
     /// Exact coordinates as stored: `[min, max]` per axis (the nearest
     /// doubles in the mesh's units after [`Report::in_units`]).
     pub bounding_box: Option<[[f64; 3]; 2]>,
-    /// Exact signed volume, as `"p/q"`.
-    pub volume: String,
+    /// Exact signed volume, as `"p/q"`; `None` when a face names a vertex
+    /// that does not exist.
+    pub volume: Option<String>,
 }
 
 /// The result of validation.
@@ -269,7 +272,8 @@ pub struct Report {
     pub unlisted: usize,
     /// Of those, the errors.
     pub unlisted_errors: usize,
-    /// The exact signed volume.
+    /// The exact signed volume (zero when a face names a vertex that does
+    /// not exist: see `stats.volume`).
     pub volume: Rat,
     /// The tables, when indices are in range and faces are proper triangles.
     pub topology: Option<Topology>,
@@ -299,7 +303,9 @@ impl Report {
             }
         }
         self.volume = &self.volume * unit * unit * unit;
-        self.stats.volume = rat_to_string(&self.volume);
+        if self.stats.volume.is_some() {
+            self.stats.volume = Some(rat_to_string(&self.volume));
+        }
         self
     }
 
@@ -362,7 +368,7 @@ pub fn accept(mesh: &Mesh) -> Result<Topology, Box<Report>> {
     }
     if !volume_computed {
         report.volume = signed_volume(mesh);
-        report.stats.volume = rat_to_string(&report.volume);
+        report.stats.volume = Some(rat_to_string(&report.volume));
     }
     Err(Box::new(report))
 }
@@ -392,11 +398,13 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
         }
     }
     let mut structural = true;
+    let mut in_range = true;
     for (f, tri) in mesh.faces.iter().enumerate() {
         let face = FaceId::from_idx(f);
         for (c, v) in tri.iter().enumerate() {
             if v.idx() >= nv {
                 structural = false;
+                in_range = false;
                 sink.push(Defect::IndexOutOfRange {
                     face,
                     corner: c as u8,
@@ -415,20 +423,29 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
     let mut stats = Stats {
         vertices: nv,
         faces: mesh.num_faces(),
-        edges: 0,
-        components: 0,
-        euler_characteristic: 0,
+        edges: None,
+        components: None,
+        euler_characteristic: None,
         genus: None,
         bounding_box,
-        volume: rat_to_string(&Rat::default()),
+        volume: None,
     };
     if !structural {
+        // Without proper triangles there are no edge tables to count; the
+        // volume needs only the indices in range (a face repeating a
+        // vertex adds zero to it).
+        let volume = if in_range {
+            signed_volume(mesh)
+        } else {
+            Rat::default()
+        };
+        stats.volume = in_range.then(|| rat_to_string(&volume));
         let report = Report {
             stats,
             defects: sink.defects,
             unlisted: sink.unlisted,
             unlisted_errors: sink.unlisted_errors,
-            volume: Rat::default(),
+            volume,
             topology: None,
         };
         return (report, true);
@@ -465,7 +482,7 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
     );
     let volume_computed = volume.is_some();
     let volume = volume.unwrap_or_default();
-    stats.volume = rat_to_string(&volume);
+    stats.volume = Some(rat_to_string(&volume));
     for d in duplicate_faces(mesh, &topo, &issues) {
         sink.push(d);
     }
@@ -568,11 +585,14 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
     }
 
     let used_count = used.iter().filter(|&&u| u).count() as i64;
-    stats.edges = topo.num_edges();
-    stats.euler_characteristic = used_count - stats.edges as i64 + stats.faces as i64;
-    stats.components = shells.len();
+    let edges = topo.num_edges();
+    let euler = used_count - edges as i64 + stats.faces as i64;
+    let components = shells.len();
+    stats.edges = Some(edges);
+    stats.euler_characteristic = Some(euler);
+    stats.components = Some(components);
     if closed_manifold {
-        stats.genus = Some((2 * stats.components as i64 - stats.euler_characteristic) / 2);
+        stats.genus = Some((2 * components as i64 - euler) / 2);
     }
     let report = Report {
         stats,
@@ -765,9 +785,19 @@ impl fmt::Display for Report {
         let s = &self.stats;
         writeln!(f, "vertices   {}", s.vertices)?;
         writeln!(f, "faces      {}", s.faces)?;
-        writeln!(f, "edges      {}", s.edges)?;
-        writeln!(f, "components {}", s.components)?;
-        writeln!(f, "euler      {}", s.euler_characteristic)?;
+        const NOT_COUNTED: &str = "- (not counted: a face repeats a vertex or names none)";
+        match (s.edges, s.components, s.euler_characteristic) {
+            (Some(e), Some(c), Some(x)) => {
+                writeln!(f, "edges      {e}")?;
+                writeln!(f, "components {c}")?;
+                writeln!(f, "euler      {x}")?;
+            }
+            _ => {
+                writeln!(f, "edges      {NOT_COUNTED}")?;
+                writeln!(f, "components {NOT_COUNTED}")?;
+                writeln!(f, "euler      {NOT_COUNTED}")?;
+            }
+        }
         match s.genus {
             Some(g) => writeln!(f, "genus      {g}")?,
             None => writeln!(f, "genus      - (not a closed manifold)")?,
@@ -780,12 +810,17 @@ impl fmt::Display for Report {
                 lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]
             )?;
         }
-        writeln!(
-            f,
-            "volume     {} (~{})",
-            s.volume,
-            Shown(crate::exact::rational::rat_to_f64(&self.volume))
-        )?;
+        match &s.volume {
+            Some(v) => writeln!(
+                f,
+                "volume     {v} (~{})",
+                Shown(crate::exact::rational::rat_to_f64(&self.volume))
+            )?,
+            None => writeln!(
+                f,
+                "volume     - (not computed: a face names a vertex that does not exist)"
+            )?,
+        }
         for d in &self.defects {
             let tag = match d.severity() {
                 Severity::Error => "error",
