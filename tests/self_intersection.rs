@@ -80,6 +80,26 @@ fn overlapping_tetrahedra_name_the_three_pairs_that_cross() {
     assert!(accept(&m).is_err());
 }
 
+/// A triangle and its reverse (a closed two-face "pillow", as in a GEBCO
+/// terrain STL of pyvista's vtk-data) fold onto each other along all three
+/// edges: validation names the three folds, the pair list names the pair
+/// once (CGAL's `self_intersections` does too).
+#[test]
+fn a_two_face_pillow_is_one_pair_folded_along_three_edges() {
+    let pillow = Mesh::from_raw(
+        vec![[3., 0., 0.], [4., 0., 0.], [3., 1., 0.]],
+        vec![[0, 1, 2], [0, 2, 1]],
+    );
+    let m = union(&tetra_by(|p| p, false), &pillow);
+    assert_eq!(intersections(&m), pairs(&[(4, 5)]));
+    let folds = validate(&m)
+        .defects
+        .iter()
+        .filter(|d| matches!(d, Defect::Fold { .. }))
+        .count();
+    assert_eq!(folds, 3);
+}
+
 #[test]
 fn bodies_touching_at_one_point_intersect() {
     // The copy shifted by (1, 0, 0) lies in x >= 1, the first one in

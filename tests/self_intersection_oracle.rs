@@ -148,6 +148,19 @@ fn touching_bodies_intersect_on_both_sides_and_apart_ones_do_not() {
     }
 }
 
+/// A triangle and its reverse beside a block: CGAL names the pair once,
+/// as the list does (it once held the pair three times, once per folded
+/// edge: a GEBCO terrain STL in pyvista's vtk-data).
+#[test]
+fn a_two_face_pillow_agrees_with_cgal() {
+    let pillow = Mesh::from_raw(
+        vec![[3., 0., 0.], [4., 0., 0.], [3., 1., 0.]],
+        vec![[0, 1, 2], [0, 2, 1]],
+    );
+    let m = union(&block([0.0; 3], [1.0; 3]), &pillow);
+    assert_eq!(compare(&m), Ok(Some(true)));
+}
+
 /// CAD-like stepped parts (`bench/meshgen.rs`: a hole, caps and 100 step
 /// flats, each a flat ring of long radial faces whose pairs the search
 /// skips once the ring is certified), in `f32` and turned `f64`, alone and

@@ -217,8 +217,10 @@ pub fn separate_face_pairs(mesh: &Mesh, topo: &Topology, keep: usize) -> FacePai
     face_pairs(mesh, topo, keep).1
 }
 
-/// Every improper pair of faces (folds included), ascending: the whole
-/// answer, unbounded, for tests and comparisons.
+/// Every improper pair of faces (folds included), ascending, each pair
+/// once (two faces folding along all three of their edges, a triangle and
+/// its reverse, are one pair, not three): the whole answer, unbounded,
+/// for tests and comparisons.
 ///
 /// `topo` must be the topology of `mesh` with no issue and `mesh`'s
 /// coordinates finite.
@@ -230,5 +232,6 @@ pub fn self_intersections(mesh: &Mesh, topo: &Topology) -> Vec<(FaceId, FaceId)>
         pairs.push(if a < b { (a, b) } else { (b, a) });
     }
     pairs.sort_unstable();
+    pairs.dedup();
     pairs
 }
