@@ -785,19 +785,16 @@ impl fmt::Display for Report {
         let s = &self.stats;
         writeln!(f, "vertices   {}", s.vertices)?;
         writeln!(f, "faces      {}", s.faces)?;
-        const NOT_COUNTED: &str = "- (not counted: a face repeats a vertex or names none)";
-        match (s.edges, s.components, s.euler_characteristic) {
-            (Some(e), Some(c), Some(x)) => {
-                writeln!(f, "edges      {e}")?;
-                writeln!(f, "components {c}")?;
-                writeln!(f, "euler      {x}")?;
-            }
-            _ => {
-                writeln!(f, "edges      {NOT_COUNTED}")?;
-                writeln!(f, "components {NOT_COUNTED}")?;
-                writeln!(f, "euler      {NOT_COUNTED}")?;
-            }
-        }
+        let counted = |n: Option<i64>| {
+            n.map_or(
+                "- (not counted: a face repeats a vertex or names none)".into(),
+                |n| n.to_string(),
+            )
+        };
+        let count = |n: Option<usize>| counted(n.map(|n| n as i64));
+        writeln!(f, "edges      {}", count(s.edges))?;
+        writeln!(f, "components {}", count(s.components))?;
+        writeln!(f, "euler      {}", counted(s.euler_characteristic))?;
         match s.genus {
             Some(g) => writeln!(f, "genus      {g}")?,
             None => writeln!(f, "genus      - (not a closed manifold)")?,
