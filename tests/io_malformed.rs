@@ -322,6 +322,24 @@ fn obj_quad_is_triangulated_with_a_note() {
     }));
 }
 
+/// Unrecognized statements are counted and the first is named with its
+/// line: a file of another format named `.obj` (an MNI surface, pyvista's
+/// `mni-surface-mesh.obj`, starts `P 0.3 0.3 0.4 10 1 1558`) then says
+/// what it holds, beside "the mesh has no faces".
+#[test]
+fn obj_unrecognized_statements_name_the_first() {
+    let text = b"# MNI\nP 0.3 0.3 0.4 10 1 1558\n -18 -16.85 2.5\nv 0 0 0\nQ 1\n";
+    let (mesh, report) = load_bytes(text, Some(MeshFormat::Obj)).unwrap();
+    assert_eq!(mesh.positions.len(), 1);
+    assert_eq!(
+        report.notes,
+        vec![LoadNote::Ignored {
+            kind: "unrecognized statements (the first, on line 2: `P`)".into(),
+            count: 3
+        }]
+    );
+}
+
 /// A `#` after a face's ids starts a comment (Online3DViewer's
 /// `cube_with_materials_comments.obj`); before, the `#` was read as an id.
 #[test]

@@ -31,6 +31,9 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
     let mut ids: Vec<u32> = Vec::new();
     let mut lines_and_points = 0usize;
     let mut unknown = 0usize;
+    // The first unrecognized statement's keyword and line, for the note (a
+    // file of another format named `.obj` is all unrecognized).
+    let mut first_unknown: Option<(String, usize)> = None;
     let mut joined: Vec<u8> = Vec::new();
     let mut lines = Lines::new(bytes);
 
@@ -89,7 +92,10 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
             b"vt" | b"vn" | b"vp" | b"o" | b"g" | b"s" | b"mg" | b"usemtl" | b"mtllib"
             | b"usemap" | b"maplib" => {}
             k if k.starts_with(b"#") => {}
-            _ => unknown += 1,
+            k => {
+                unknown += 1;
+                first_unknown.get_or_insert_with(|| (show(k), number));
+            }
         }
     }
 
@@ -101,9 +107,9 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
             count: lines_and_points,
         });
     }
-    if unknown > 0 {
+    if let Some((keyword, line)) = first_unknown {
         notes.push(LoadNote::Ignored {
-            kind: "unrecognized statements".to_owned(),
+            kind: format!("unrecognized statements (the first, on line {line}: `{keyword}`)"),
             count: unknown,
         });
     }
