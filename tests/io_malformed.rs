@@ -1469,11 +1469,18 @@ fn utf16(text: &str, big: bool) -> Vec<u8> {
         .collect()
 }
 
+/// The unit tetrahedron as OBJ and OFF text, and one facet as ASCII STL:
+/// plain texts the encoding and line-end tests wrap.
+const TETRA_OBJ: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+const TETRA_OFF: &str =
+    "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+const FACET_STL: &str = "solid t\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n";
+
 #[test]
 fn utf16_text_is_named_as_such_in_every_text_format() {
-    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
-    let off = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
-    let stl = "solid t\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n";
+    let obj = TETRA_OBJ;
+    let off = TETRA_OFF;
+    let stl = FACET_STL;
     let ply = "ply\nformat ascii 1.0\nelement vertex 0\nelement face 0\nend_header\n";
     let cases = [
         (obj, MeshFormat::Obj),
@@ -1526,9 +1533,9 @@ fn utf16_text_is_named_as_such_in_every_text_format() {
 /// binary.
 #[test]
 fn utf8_byte_order_mark_is_skipped_in_every_text_format() {
-    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
-    let off = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
-    let stl = "solid t\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n";
+    let obj = TETRA_OBJ;
+    let off = TETRA_OFF;
+    let stl = FACET_STL;
     let ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
     for (text, format) in [
         (obj, MeshFormat::Obj),
@@ -1558,8 +1565,8 @@ fn utf8_byte_order_mark_is_skipped_in_every_text_format() {
 /// vertex, no face.
 #[test]
 fn obj_and_off_with_lone_carriage_returns_read_as_with_newlines() {
-    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
-    let off = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    let obj = TETRA_OBJ;
+    let off = TETRA_OFF;
     for (text, format) in [(obj, MeshFormat::Obj), (off, MeshFormat::Off)] {
         let (want, _) = load_bytes(text.as_bytes(), Some(format)).unwrap();
         assert_eq!(want.faces.len(), 4);
