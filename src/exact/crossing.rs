@@ -22,7 +22,7 @@ use super::frame::Frame;
 use super::grid::{GridLevel, MeshGrid};
 use super::level::{nearest_gap, shl, Level};
 use super::point::{may_fit_edge_grid, LoopPoint};
-use super::rational::{decompose, rat_from_f64, rat_to_f64, ratio_to_f64};
+use super::rational::{decompose, rat_minus_f64_to_f64, rat_to_f64, ratio_to_f64};
 use crate::ids::VertexId;
 use std::cell::Cell;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -110,7 +110,7 @@ impl LevelApprox {
         if frame.is_identity() {
             return Self::in_frame(level, frame);
         }
-        Self::in_frame(&Level::new(level.value() * frame.factor()), frame)
+        Self::in_frame(&Level::new(frame.scale(level.value())), frame)
     }
 
     /// As [`LevelApprox::new`], for `level` already multiplied by `2^s`.
@@ -123,7 +123,7 @@ impl LevelApprox {
         let lo = level
             .wide()
             .and_then(|(p, q)| residual(p, q, hi))
-            .unwrap_or_else(|| rat_to_f64(&(c - rat_from_f64(hi))));
+            .unwrap_or_else(|| rat_minus_f64_to_f64(c, hi));
         // |lo| <= u |hi|; below 2^-1000 it could be subnormal (then the
         // relative bound fails): refused.
         if !in_range(lo, f64::from_bits((1023 - 1000) << 52), IN_HI) {
@@ -603,7 +603,7 @@ impl Drop for Crossings<'_> {
 mod tests {
     use super::*;
     use crate::exact::point::Point2;
-    use crate::exact::rational::Rat;
+    use crate::exact::rational::{rat_from_f64, Rat};
     use num_traits::Signed;
     use proptest::prelude::*;
 

@@ -19,6 +19,7 @@ use super::frame::Frame;
 use super::homogeneous;
 use super::point::LoopPoint;
 use super::predicates::{orient2d_points, Sign};
+use super::rational::rat_to_f64;
 
 /// A closed interval of doubles known to contain an exact value.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -308,7 +309,10 @@ impl<'a> FilteredPoint<'a> {
         // A coordinate subnormal on one side (or rounded to zero): rounded
         // from the exact value in the frame.
         x.zip(y).map_or_else(
-            || self.exact.exact().scaled(&self.frame.factor()).to_f64(),
+            || {
+                let p = self.exact.exact();
+                [&p.x, &p.y].map(|v| rat_to_f64(&self.frame.scale(v)))
+            },
             |(x, y)| [x, y],
         )
     }

@@ -14,7 +14,7 @@
 //! two is exact whenever the result is a normal double ([`times_pow2`]):
 //! callers check that range after [`Frame::place`].
 
-use super::rational::Rat;
+use super::rational::{rat_times_pow2, Rat};
 use super::scale::{leading_exponent, times_pow2};
 
 /// Magnitudes within `2^-200 ..= 2^200` are left where they are (the
@@ -63,9 +63,9 @@ impl Frame {
         self.shift
     }
 
-    /// `2^s` as an exact rational.
-    pub fn factor(self) -> Rat {
-        Rat::from_integer(2.into()).pow(self.shift)
+    /// `x 2^s`, exact and in lowest terms ([`rat_times_pow2`]).
+    pub fn scale(self, x: &Rat) -> Rat {
+        rat_times_pow2(x, self.shift)
     }
 
     /// `v 2^s`: exact when the result is a normal double or zero (the
@@ -167,7 +167,7 @@ mod tests {
             let gap = rat_from_f64(anchor.next_up()) - rat_from_f64(anchor);
             let x = rat_from_f64(anchor) + gap * Rat::new(BigInt::from(num % 1000), BigInt::from(den % 997 + 1));
             let s = frame.shift();
-            let scaled = &x * frame.factor();
+            let scaled = frame.scale(&x);
             prop_assert_eq!(&scaled, &(&x * Rat::from_integer(BigInt::from(2)).pow(s)));
             let in_frame = rat_to_f64(&scaled);
             let nearest = rat_to_f64(&x);

@@ -5,7 +5,7 @@
 //! comparison of a double with `c` is two float comparisons: there is no
 //! double strictly between `lo` and `hi`.
 
-use super::rational::{decompose, rat_from_f64, rat_to_f64, rat_to_string, Rat};
+use super::rational::{cmp_f64_rat, decompose, rat_to_f64, rat_to_string, Rat};
 use super::Sign;
 use num_traits::ToPrimitive;
 use std::fmt;
@@ -84,7 +84,7 @@ impl Level {
         } else {
             let order = wide
                 .and_then(|(p, q)| cmp_nearest(f, p, q))
-                .unwrap_or_else(|| rat_from_f64(f).cmp(&value));
+                .unwrap_or_else(|| cmp_f64_rat(f, &value));
             match order {
                 std::cmp::Ordering::Equal => (f, f),
                 std::cmp::Ordering::Less => (f, f.next_up()),
@@ -172,6 +172,7 @@ impl fmt::Display for Level {
 mod tests {
     use super::*;
     use crate::exact::parse_rational;
+    use crate::exact::rational::rat_from_f64;
 
     #[test]
     fn sign_is_exact_next_to_a_non_double_level() {

@@ -7,6 +7,7 @@
 use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Signed, ToPrimitive, Zero};
+use std::cmp::Ordering;
 
 /// The exact rational type used on the exact side of the pipeline.
 pub type Rat = BigRational;
@@ -159,6 +160,53 @@ pub fn rat_from_f64(x: f64) -> Rat {
         Some((m, e)) if e >= 0 => Rat::from_integer(BigInt::from(m) << e as u32),
         Some((m, e)) => Rat::new_raw(BigInt::from(m), BigInt::one() << (-e) as u32),
     }
+}
+
+/// `r 2^s`, exact and in lowest terms. `r` is in lowest terms, so only
+/// factors of two can cancel: they are counted, no gcd is taken (the
+/// generic product takes three, each as long as the numbers' bit length).
+pub fn rat_times_pow2(r: &Rat, s: i32) -> Rat {
+    if s == 0 || r.is_zero() {
+        return r.clone();
+    }
+    let (n, d) = (r.numer(), r.denom());
+    let k = u64::from(s.unsigned_abs());
+    if s > 0 {
+        let cancel = d.trailing_zeros().unwrap_or(0).min(k);
+        Rat::new_raw(n << (k - cancel), d >> cancel)
+    } else {
+        let cancel = n.trailing_zeros().unwrap_or(0).min(k);
+        Rat::new_raw(n >> cancel, d << (k - cancel))
+    }
+}
+
+/// `c - x` exactly, over `c`'s denominator times a power of two, not
+/// reduced (for a rounding or a sign, which depend on the value only).
+fn minus_f64(c: &Rat, x: f64) -> Rat {
+    let Some((m, e)) = decompose(x) else {
+        return c.clone();
+    };
+    let (p, q) = (c.numer(), c.denom());
+    let m = BigInt::from(m);
+    let k = u64::from(e.unsigned_abs());
+    if e >= 0 {
+        Rat::new_raw(p - (m << k) * q, q.clone())
+    } else {
+        Rat::new_raw((p << k) - m * q, q << k)
+    }
+}
+
+/// The `f64` nearest to `c - x` (ties to even), exact: the difference is
+/// rounded once, unreduced ([`rat_to_f64`] depends on the value only).
+pub fn rat_minus_f64_to_f64(c: &Rat, x: f64) -> f64 {
+    rat_to_f64(&minus_f64(c, x))
+}
+
+/// `x` compared with `c`, exactly, for a finite `x`: the sign of one
+/// integer, `x - c` times a positive denominator (the rational comparison
+/// expands both into continued fractions, a big division per term).
+pub fn cmp_f64_rat(x: f64, c: &Rat) -> Ordering {
+    BigInt::zero().cmp(minus_f64(c, x).numer())
 }
 
 /// `x = mantissa * 2^exponent` with an odd mantissa (or `None` for zero or
@@ -433,6 +481,50 @@ mod tests {
                 let reference = ratio_to_rat(n, d, 0).to_f64().unwrap();
                 proptest::prop_assert_eq!(ratio_to_f64(n, d, 0), reference);
             }
+        }
+
+        /// Multiplying by `2^s` through the trailing zeros gives the
+        /// rational product's parts (lowest terms), for parts of up to
+        /// 430 bits and shifts far past the double range.
+        #[test]
+        fn pow2_products_equal_rational_ones(
+            p in proptest::num::i128::ANY, pb in 1u32..129, pshift in 0u32..300,
+            q in proptest::num::u128::ANY, qb in 1u32..129, qshift in 0u32..300, s in -1300i32..1300
+        ) {
+            let c = Rat::new(
+                BigInt::from(p >> (128 - pb)) << pshift,
+                (BigInt::from(q >> (128 - qb)) << qshift).max(BigInt::one()),
+            );
+            let want = &c * Rat::from_integer(BigInt::from(2)).pow(s);
+            let got = rat_times_pow2(&c, s);
+            proptest::prop_assert_eq!((got.numer(), got.denom()), (want.numer(), want.denom()));
+        }
+
+        /// The difference with a double, rounded once and compared, as the
+        /// rational subtraction and comparison give them: for doubles of
+        /// any bit pattern and for the nearest double of the value and
+        /// its neighbours (the residual of a level's approximation).
+        #[test]
+        fn differences_with_a_double_are_exact(
+            p in proptest::num::i128::ANY, pb in 1u32..129, pshift in 0u32..1100,
+            q in proptest::num::u128::ANY, qb in 1u32..129, qshift in 0u32..1100,
+            bits in proptest::num::u64::ANY, pick in 0u8..4
+        ) {
+            let c = Rat::new(
+                BigInt::from(p >> (128 - pb)) << pshift,
+                (BigInt::from(q >> (128 - qb)) << qshift).max(BigInt::one()),
+            );
+            let near = rat_to_f64(&c);
+            let x = match pick {
+                0 => f64::from_bits(bits),
+                1 => near,
+                2 => near.next_up(),
+                _ => near.next_down(),
+            };
+            proptest::prop_assume!(x.is_finite());
+            let diff = &c - rat_from_f64(x);
+            proptest::prop_assert_eq!(rat_minus_f64_to_f64(&c, x).to_bits(), rat_to_f64(&diff).to_bits());
+            proptest::prop_assert_eq!(cmp_f64_rat(x, &c), rat_from_f64(x).cmp(&c));
         }
 
         /// The direct construction equals num-rational's (reduced) one for
