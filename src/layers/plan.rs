@@ -10,7 +10,9 @@
 use crate::exact::point::gcd_u128;
 use crate::exact::rational::{rat_from_f64, rat_to_string, Rat};
 use crate::mesh::Mesh;
-use num_traits::{Signed, ToPrimitive};
+use num_bigint::BigInt;
+use num_integer::Integer;
+use num_traits::{One, Pow, Signed, ToPrimitive, Zero};
 
 /// The largest number of levels one plan may hold.
 pub const MAX_LEVELS: usize = 10_000_000;
@@ -78,9 +80,7 @@ pub fn plan_levels(
                 .ok_or_else(|| PlanError::TooMany(count.to_integer().to_string()))?;
             levels.reserve(n);
             if !uniform_in_i128(&first, &p.height, n, &mut levels) {
-                for k in 0..n {
-                    levels.push(&first + &p.height * Rat::from_integer(k.into()));
-                }
+                uniform_big(&first, &p.height, n, &mut levels);
             }
         }
     }
@@ -125,6 +125,79 @@ fn uniform_in_i128(first: &Rat, height: &Rat, n: usize, levels: &mut Vec<Rat>) -
     true
 }
 
+/// [`uniform_in_i128`] in big integers: `(a + k b) / D` over the common
+/// denominator, one reduction per level (the rational sum and product
+/// would take five gcds, each as long as the numbers' bit length); for a
+/// decimal `D` without a gcd at all ([`DecimalDenominator`]).
+fn uniform_big(first: &Rat, height: &Rat, n: usize, levels: &mut Vec<Rat>) {
+    let d = first.denom().lcm(height.denom());
+    let a = first.numer() * (&d / first.denom());
+    let b = height.numer() * (&d / height.denom());
+    let decimal = DecimalDenominator::of(&d);
+    let mut num = a;
+    for _ in 0..n {
+        levels.push(match &decimal {
+            Some(dec) => dec.reduce(num.clone()),
+            None => Rat::new(num.clone(), d.clone()),
+        });
+        num += &b;
+    }
+}
+
+/// A denominator `2^twos 5^fives` (every decimal level's): `n / D` is put
+/// in lowest terms by taking out the twos `n` has (its trailing zeros) and
+/// the fives (dividing by five while it divides), no gcd.
+struct DecimalDenominator {
+    d: BigInt,
+    twos: u64,
+    fives: u64,
+}
+
+impl DecimalDenominator {
+    /// `Some` when `d > 0` has no prime factor but 2 and 5.
+    fn of(d: &BigInt) -> Option<Self> {
+        let twos = d.trailing_zeros()?;
+        let (mut odd, mut fives) = (d >> twos, 0);
+        let five = BigInt::from(5);
+        while !odd.is_one() {
+            let (q, r) = odd.div_rem(&five);
+            if !r.is_zero() || q.is_zero() {
+                return None;
+            }
+            (odd, fives) = (q, fives + 1);
+        }
+        Some(DecimalDenominator {
+            d: d.clone(),
+            twos,
+            fives,
+        })
+    }
+
+    /// `n / D` in lowest terms; equal to `Rat::new(n, D)`.
+    fn reduce(&self, n: BigInt) -> Rat {
+        let Some(tz) = n.trailing_zeros() else {
+            return Rat::zero();
+        };
+        let twos = tz.min(self.twos);
+        let mut n = n >> twos;
+        let five = BigInt::from(5);
+        let mut fives = 0;
+        while fives < self.fives {
+            let (q, r) = n.div_rem(&five);
+            if !r.is_zero() {
+                break;
+            }
+            (n, fives) = (q, fives + 1);
+        }
+        let d = if fives == 0 {
+            &self.d >> twos
+        } else {
+            (&self.d >> twos) / five.pow(fives as u32)
+        };
+        Rat::new_raw(n, d)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -165,6 +238,43 @@ mod tests {
                 proptest::prop_assert_eq!(fast.len(), 50);
             }
         }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::test_runner::Config::with_cases(64))]
+        /// Levels past `i128` (a mesh at `1e-300` takes 300-digit
+        /// decimals) equal the rational arithmetic's, in lowest terms:
+        /// decimal denominators (reduced without a gcd) and others.
+        #[test]
+        fn big_levels_equal_rational_ones(
+            fp in proptest::num::i64::ANY, fe in 0u32..400, hp in 1i64..i64::MAX, he in 0u32..400,
+            odd in proptest::sample::select(vec![1u32, 3, 77]), ten in proptest::bool::ANY
+        ) {
+            let base = |e: u32| {
+                let b = if ten { 10 } else { 2 };
+                num_traits::pow(BigInt::from(b), e as usize) * odd
+            };
+            let first = Rat::new(fp.into(), base(fe));
+            let height = Rat::new(hp.into(), num_traits::pow(BigInt::from(10), he as usize));
+            let mut fast = Vec::new();
+            uniform_big(&first, &height, 12, &mut fast);
+            proptest::prop_assert_eq!(fast.len(), 12);
+            for (k, f) in fast.iter().enumerate() {
+                let slow = &first + &height * Rat::from_integer(k.into());
+                proptest::prop_assert_eq!((f.numer(), f.denom()), (slow.numer(), slow.denom()));
+            }
+        }
+    }
+
+    #[test]
+    fn decimal_denominators_are_told_apart() {
+        let d = |v: u64| DecimalDenominator::of(&BigInt::from(v)).map(|d| (d.twos, d.fives));
+        assert_eq!(d(1), Some((0, 0)));
+        assert_eq!(d(1000), Some((3, 3)));
+        assert_eq!(d(2 * 5 * 5 * 5), Some((1, 3)));
+        assert_eq!(d(3), None);
+        assert_eq!(d(30), None);
+        assert_eq!(d(5 * 7), None);
     }
 
     #[test]
