@@ -18,7 +18,10 @@ to the highest vertex), given to manifold3d as their nearest doubles.
   but the file: manifold3d writes nothing), and its ratio.
 - manifold3d: `Manifold(Mesh(...))` plus `slice(z).to_polygons()` per
   level, timed inside the process (construction plus slicing; reading
-  the file with trimesh is not counted).
+  the file with trimesh is not counted). A mesh it refuses is shown
+  "failed"; one it returns no loop for at every level (a mesh at the small
+  end of the double range, which its tolerance takes for empty) "no
+  loops". Neither enters the geometric mean.
 
 Each process is pinned to one CPU (`--no-pin`: not): the comparison is one
 thread against one thread, and manifold3d, built with TBB, would otherwise
@@ -198,6 +201,13 @@ def main():
         if peer and peer[0]["tris"] != peer[0]["faces"]:
             row["manifold_error"] = f"{peer[0]['status']}: {peer[0]['tris']} of {peer[0]['faces']} faces"
             peer = None
+        if peer and peer[0]["loops"] == 0:
+            # Every level lies strictly inside the mesh's z range: no loop
+            # at all is no answer (manifold3d's tolerance took a mesh at
+            # the small end of the double range for empty), not a time.
+            row["manifold_error"] = f"no loop at any of the {len(levels)} levels"
+            row["manifold_empty"] = True
+            peer = None
         if peer:
             row["manifold"] = statistics.median(p["build_s"] + p["slice_s"] for p in peer)
             row["manifold_loops"] = peer[0]["loops"]
@@ -221,7 +231,8 @@ def main():
         cells = [r["mesh"], str(r["layers"]), r["h"], show(r["wmslice"])]
         if len(tools) == 2:
             cells.append(show(r["base"]) + ("" if r.get("identical", True) else " (OUTPUT DIFFERS)"))
-        cells += [f"{r['manifold']:.3f}" if r.get("manifold") else "failed",
+        peer_cell = "no loops" if r.get("manifold_empty") else "failed"
+        cells += [f"{r['manifold']:.3f}" if r.get("manifold") else peer_cell,
                   f"{ratio:.2f}" if ratio else "-"]
         if args.null:
             cells += [show(r.get("null")), f"{null_ratio:.2f}" if null_ratio else "-"]
