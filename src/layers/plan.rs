@@ -161,7 +161,7 @@ impl DecimalDenominator {
         let five = BigInt::from(5);
         while !odd.is_one() {
             let (q, r) = odd.div_rem(&five);
-            if !r.is_zero() || q.is_zero() {
+            if !r.is_zero() {
                 return None;
             }
             (odd, fives) = (q, fives + 1);
