@@ -1478,14 +1478,11 @@ const FACET_STL: &str = "solid t\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\n
 
 #[test]
 fn utf16_text_is_named_as_such_in_every_text_format() {
-    let obj = TETRA_OBJ;
-    let off = TETRA_OFF;
-    let stl = FACET_STL;
     let ply = "ply\nformat ascii 1.0\nelement vertex 0\nelement face 0\nend_header\n";
     let cases = [
-        (obj, MeshFormat::Obj),
-        (off, MeshFormat::Off),
-        (stl, MeshFormat::StlAscii),
+        (TETRA_OBJ, MeshFormat::Obj),
+        (TETRA_OFF, MeshFormat::Off),
+        (FACET_STL, MeshFormat::StlAscii),
         (ply, MeshFormat::PlyAscii),
     ];
     for (text, format) in cases {
@@ -1533,14 +1530,11 @@ fn utf16_text_is_named_as_such_in_every_text_format() {
 /// binary.
 #[test]
 fn utf8_byte_order_mark_is_skipped_in_every_text_format() {
-    let obj = TETRA_OBJ;
-    let off = TETRA_OFF;
-    let stl = FACET_STL;
     let ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
     for (text, format) in [
-        (obj, MeshFormat::Obj),
-        (off, MeshFormat::Off),
-        (stl, MeshFormat::StlAscii),
+        (TETRA_OBJ, MeshFormat::Obj),
+        (TETRA_OFF, MeshFormat::Off),
+        (FACET_STL, MeshFormat::StlAscii),
         (ply, MeshFormat::PlyAscii),
     ] {
         let (want, _) = load_bytes(text.as_bytes(), Some(format)).unwrap();
@@ -1565,9 +1559,7 @@ fn utf8_byte_order_mark_is_skipped_in_every_text_format() {
 /// vertex, no face.
 #[test]
 fn obj_and_off_with_lone_carriage_returns_read_as_with_newlines() {
-    let obj = TETRA_OBJ;
-    let off = TETRA_OFF;
-    for (text, format) in [(obj, MeshFormat::Obj), (off, MeshFormat::Off)] {
+    for (text, format) in [(TETRA_OBJ, MeshFormat::Obj), (TETRA_OFF, MeshFormat::Off)] {
         let (want, _) = load_bytes(text.as_bytes(), Some(format)).unwrap();
         assert_eq!(want.faces.len(), 4);
         let cr = text.replace('\n', "\r");
@@ -1592,7 +1584,7 @@ fn obj_and_off_with_lone_carriage_returns_read_as_with_newlines() {
         }
     }
     // Line 6 of the `\r` file holds the bad index.
-    let bad = obj.replace("f 1 2 4", "f 1 2 x").replace('\n', "\r");
+    let bad = TETRA_OBJ.replace("f 1 2 4", "f 1 2 x").replace('\n', "\r");
     match load_bytes(bad.as_bytes(), Some(MeshFormat::Obj)).unwrap_err() {
         LoadError::InvalidIndex { line, .. } => assert_eq!(line, Some(6)),
         e => panic!("{e:?}"),

@@ -189,12 +189,7 @@ impl DecimalDenominator {
             }
             (n, fives) = (q, fives + 1);
         }
-        let d = if fives == 0 {
-            &self.d >> twos
-        } else {
-            (&self.d >> twos) / five.pow(fives as u32)
-        };
-        Rat::new_raw(n, d)
+        Rat::new_raw(n, (&self.d >> twos) / five.pow(fives as u32))
     }
 }
 
@@ -242,9 +237,10 @@ mod tests {
 
     proptest::proptest! {
         #![proptest_config(proptest::test_runner::Config::with_cases(64))]
-        /// Levels past `i128` (a mesh at `1e-300` takes 300-digit
-        /// decimals) equal the rational arithmetic's, in lowest terms:
-        /// decimal denominators (reduced without a gcd) and others.
+        /// Levels past `i128` (a mesh scaled to `1e-300` takes 300-digit
+        /// decimal layer heights) equal the rational arithmetic's exactly,
+        /// part for part in lowest terms: decimal denominators (reduced
+        /// without a gcd) and others.
         #[test]
         fn big_levels_equal_rational_ones(
             fp in proptest::num::i64::ANY, fe in 0u32..400, hp in 1i64..i64::MAX, he in 0u32..400,
