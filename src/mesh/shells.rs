@@ -67,15 +67,23 @@ pub struct MisnestedShell {
     pub winding: i64,
 }
 
-/// The shells of a closed mesh, each as its faces in ascending order,
-/// ordered by their lowest face.
+/// The shells of a mesh (its faces joined across every shared edge), each
+/// as its faces in ascending order, ordered by their lowest face. On a
+/// defective edge (faces running one way, or more than two faces) every
+/// face of the edge is joined too, so a flipped face is not a shell of its
+/// own.
 pub fn shells(mesh: &Mesh, topo: &Topology) -> Vec<Vec<FaceId>> {
     let n = mesh.num_faces();
     let mut sets = UnionFind::<u32>::new(n);
-    for e in &topo.edges {
-        let [f, g] = e.faces;
-        if f.idx() < n && g.idx() < n {
-            sets.union(f.0, g.0);
+    for (f, edges) in topo.face_edges.iter().enumerate() {
+        for e in edges {
+            // Each face of an edge joins the edge's first face; a
+            // defective edge's faces are all reached this way.
+            let [g, h] = topo.edge(*e).faces;
+            let first = if g.idx() < n { g } else { h };
+            if first.idx() < n {
+                sets.union(f as u32, first.0);
+            }
         }
     }
     let mut index = vec![u32::MAX; n];
@@ -364,6 +372,25 @@ mod tests {
     }
 
     const OUTER: ([f64; 3], [f64; 3]) = ([0.0; 3], [4.0; 3]);
+
+    /// Counted by hand: one box is one piece, turning one of its faces
+    /// over (three edges now run the same way twice) leaves it one piece,
+    /// and a second box apart makes two.
+    #[test]
+    fn a_flipped_face_stays_in_its_shell() {
+        let mut m = mesh_of(&[(OUTER.0, OUTER.1, true, false)]);
+        assert_eq!(validate(&m).stats.components, Some(1));
+        m.faces[5].swap(1, 2);
+        let r = validate(&m);
+        assert!(!r.is_accepted());
+        assert_eq!(r.stats.components, Some(1));
+        let mut apart = mesh_of(&[
+            (OUTER.0, OUTER.1, true, false),
+            ([5.0; 3], [6.0; 3], true, false),
+        ]);
+        apart.faces[5].swap(1, 2);
+        assert_eq!(validate(&apart).stats.components, Some(2));
+    }
 
     #[test]
     fn a_solid_inside_a_solid_is_named() {
