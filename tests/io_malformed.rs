@@ -7,8 +7,8 @@ use std::io::Write;
 
 use wmslice::exact::rational::Rat;
 use wmslice::mesh::io::{
-    load, load_bytes, load_bytes_exact, BinaryOffLayout, ByteOrder, FaceColors, InvalidIndexReason,
-    LoadError, LoadNote, MeshFormat,
+    detect_format, load, load_bytes, load_bytes_exact, BinaryOffLayout, ByteOrder, FaceColors,
+    InvalidIndexReason, LoadError, LoadNote, MeshFormat,
 };
 use wmslice::mesh::prepare::{prepare, prepare_exact, PrepareError};
 use wmslice::mesh::Mesh;
@@ -413,6 +413,35 @@ fn off_with_colors_comments_and_polygons_loads() {
     assert_eq!(report.format, MeshFormat::Off);
     assert_eq!(mesh.positions[2], [1.0, 1.0, 0.0]);
     assert_eq!(ids(&mesh), vec![[0, 1, 2], [0, 2, 3]]);
+}
+
+/// ModelNet's OFF files glue the vertex count to the keyword.
+#[test]
+fn off_with_the_vertex_count_glued_to_the_keyword_loads() {
+    let text = b"OFF4 4 6\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
+    assert_eq!(detect_format(text), Some(MeshFormat::Off));
+    let (mesh, _) = load_bytes(text, None).unwrap();
+    assert_eq!(mesh.positions.len(), 4);
+    assert_eq!(ids(&mesh)[3], [0, 3, 2]);
+    // Anything but digits after the keyword is not OFF.
+    let err = load_bytes(b"OFFx 4 4 6\n", Some(MeshFormat::Off)).unwrap_err();
+    assert!(
+        err.to_string().contains("expected `OFF`, found `OFFx`"),
+        "{err}"
+    );
+}
+
+/// A whole mesh on the header line is refused as such, not as a count
+/// the file cannot hold.
+#[test]
+fn off_data_on_the_header_line_is_named() {
+    let text = b"OFF 4 4 6 0 0 0 1 0 0 0 1 0 0 0 1 3 0 2 1 3 0 1 3 3 1 2 3 3 0 3 2\n";
+    let err = load_bytes(text, None).unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("31 numbers where the vertex, face and edge counts belong"),
+        "{err}"
+    );
 }
 
 #[test]

@@ -443,7 +443,7 @@ pub fn detect_format(bytes: &[u8]) -> Option<MeshFormat> {
         .filter(|t| !t.starts_with(b"#"))
         .take(64);
     let first = first_tokens.next()?;
-    if off::is_off_keyword(first) {
+    if off::split_off_keyword(first).is_some() {
         return Some(MeshFormat::Off);
     }
     if first.eq_ignore_ascii_case(b"solid") {

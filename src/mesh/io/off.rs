@@ -30,13 +30,25 @@ const MIN_FACE_BYTES: u64 = 8;
 
 /// Whether a token is an OFF header keyword: `OFF` with optional prefixes
 /// `ST`, `C`, `N`, `4`, `n`.
-pub(super) fn is_off_keyword(t: &[u8]) -> bool {
+fn is_off_keyword(t: &[u8]) -> bool {
     match t.strip_suffix(b"OFF") {
         Some(prefix) => prefix
             .iter()
             .all(|b| matches!(b, b'S' | b'T' | b'C' | b'N' | b'4' | b'n')),
         None => false,
     }
+}
+
+/// Splits a header token into its OFF keyword and a vertex count glued to
+/// it: ModelNet's files start `OFF490 518 0`. `None` when the token is no
+/// OFF keyword, or something other than digits follows it.
+pub(super) fn split_off_keyword(t: &[u8]) -> Option<(&[u8], Option<&[u8]>)> {
+    let end = t.windows(3).position(|w| w == b"OFF")? + 3;
+    let (keyword, rest) = t.split_at(end);
+    if !is_off_keyword(keyword) || !rest.iter().all(u8::is_ascii_digit) {
+        return None;
+    }
+    Some((keyword, (!rest.is_empty()).then_some(rest)))
 }
 
 fn parse_err(line: usize, message: String) -> LoadError {
@@ -77,20 +89,24 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
         .next()
         .ok_or_else(|| parse_err(1, "empty file: expected `OFF`".to_owned()))?;
     let mut head = tokens(header);
-    let keyword = head.next().unwrap_or_default();
-    if !is_off_keyword(keyword) {
+    let first = head.next().unwrap_or_default();
+    let Some((keyword, glued)) = split_off_keyword(first) else {
         return Err(parse_err(
             header_line,
-            format!("expected `OFF`, found `{}`", show(keyword)),
+            format!("expected `OFF`, found `{}`", show(first)),
         ));
-    }
+    };
     if keyword.contains(&b'4') || keyword.contains(&b'n') {
         return Err(LoadError::Unsupported {
             format: FORMAT,
             feature: format!("`{}`: OFF in other than three dimensions", show(keyword)),
         });
     }
-    let mut counts: Vec<(&[u8], usize)> = head.map(|t| (t, header_line)).collect();
+    let mut counts: Vec<(&[u8], usize)> = glued
+        .into_iter()
+        .chain(head)
+        .map(|t| (t, header_line))
+        .collect();
     if counts
         .first()
         .is_some_and(|(t, _)| t.eq_ignore_ascii_case(b"BINARY"))
@@ -108,6 +124,16 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
         counts = tokens(l).map(|t| (t, n)).collect();
     }
     let counts_line = counts.first().map_or(header_line, |c| c.1);
+    if counts.len() > 3 {
+        return Err(parse_err(
+            counts_line,
+            format!(
+                "{} numbers where the vertex, face and edge counts belong: this reader takes \
+                 the vertices and faces one per line after that line",
+                counts.len()
+            ),
+        ));
+    }
     let (nv_tok, nf_tok) = match counts.as_slice() {
         [v, f, ..] => (v.0, f.0),
         _ => {
