@@ -68,6 +68,70 @@ fn binary_stl_with_solid_header_and_trailing_bytes_falls_back_to_binary() {
     assert_eq!(mesh.num_faces(), 2);
 }
 
+/// The count at bytes 80..84 rewritten: the records stay as they are.
+fn with_count(mut bytes: Vec<u8>, n: u32) -> Vec<u8> {
+    bytes[80..84].copy_from_slice(&n.to_le_bytes());
+    bytes
+}
+
+/// A writer that never filled the count in: the two records are there.
+#[test]
+fn binary_stl_claiming_no_triangle_reads_the_records_it_holds() {
+    for header in [&b"solid streamed"[..], b"streamed"] {
+        let bytes = with_count(binary_stl(header, &TWO_TRIANGLES), 0);
+        let (mesh, report) = load_bytes(&bytes, None).unwrap();
+        assert_eq!(report.format, MeshFormat::StlBinary);
+        assert!(report
+            .notes
+            .contains(&LoadNote::StlCountZero { triangles: 2 }));
+        assert_eq!(ids(&mesh), vec![[0, 1, 2], [1, 3, 2]]);
+    }
+    // Not a whole number of records: nothing to read them by.
+    let mut bytes = with_count(binary_stl(b"", &TWO_TRIANGLES), 0);
+    bytes.push(0);
+    let (mesh, report) = load_bytes(&bytes, Some(MeshFormat::StlBinary)).unwrap();
+    assert_eq!(mesh.num_faces(), 0);
+    assert!(report
+        .notes
+        .contains(&LoadNote::TrailingBytes { bytes: 101 }));
+}
+
+/// A count short of the records: the claimed ones are read, and the note
+/// says how many whole records were left.
+#[test]
+fn binary_stl_with_records_past_its_count_names_them() {
+    let bytes = with_count(binary_stl(b"solid x", &TWO_TRIANGLES), 1);
+    let (mesh, report) = load_bytes(&bytes, None).unwrap();
+    assert_eq!(mesh.num_faces(), 1);
+    let note = LoadNote::StlUnclaimedTriangles {
+        claimed: 1,
+        more: 1,
+    };
+    assert!(report.notes.contains(&note), "{:?}", report.notes);
+    assert!(note
+        .to_string()
+        .contains("the header claims 1 triangles, but 1 more"));
+}
+
+/// Binary content under a `solid` header whose count runs past the file:
+/// the binary reader's verdict, not an ASCII parse error.
+#[test]
+fn binary_stl_with_solid_header_and_too_large_a_count_is_named_as_binary() {
+    let bytes = with_count(binary_stl(b"solid x", &TWO_TRIANGLES), 9);
+    let err = load_bytes(&bytes, None).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            LoadError::ClaimedCountTooLarge {
+                format: MeshFormat::StlBinary,
+                claimed: 9,
+                ..
+            }
+        ),
+        "{err}"
+    );
+}
+
 #[test]
 fn truncated_binary_stl_is_truncated() {
     let mut bytes = binary_stl(b"", &TWO_TRIANGLES);

@@ -169,8 +169,25 @@ pub enum LoadNote {
         object: u64,
     },
     /// A binary STL whose 80-byte header starts with `solid` (read as
-    /// binary because its size is exactly 84 + 50 n).
+    /// binary because its size is exactly 84 + 50 n, or because its
+    /// content is not text).
     BinaryStlHeaderSaysSolid,
+    /// A binary STL whose header claims no triangle, followed by a whole
+    /// number of triangle records (a writer that never filled the count
+    /// in): the records are read.
+    StlCountZero {
+        /// Triangle records read.
+        triangles: u64,
+    },
+    /// A binary STL followed by more whole triangle records than its
+    /// header claims: the claimed ones are read, the rest ignored (the
+    /// file does not say which is right).
+    StlUnclaimedTriangles {
+        /// Triangles the header claims.
+        claimed: u32,
+        /// Whole records after them.
+        more: u64,
+    },
     /// Bytes after the data the file declares, ignored.
     TrailingBytes {
         /// How many.
@@ -222,8 +239,17 @@ impl fmt::Display for LoadNote {
                 "build item {item} (object {object}): transform applied exactly"
             ),
             LoadNote::BinaryStlHeaderSaysSolid => {
-                f.write_str("binary STL whose header starts with `solid` (size matches 84 + 50 n)")
+                f.write_str("binary STL whose header starts with `solid`")
             }
+            LoadNote::StlCountZero { triangles } => write!(
+                f,
+                "the header claims 0 triangles, but {triangles} whole triangle records follow: read"
+            ),
+            LoadNote::StlUnclaimedTriangles { claimed, more } => write!(
+                f,
+                "the header claims {claimed} triangles, but {more} more whole triangle record(s) \
+                 follow: ignored (if they belong to the mesh, the header's count is wrong)"
+            ),
             LoadNote::TrailingBytes { bytes } => {
                 write!(f, "{bytes} trailing bytes after the data ignored")
             }
@@ -435,7 +461,7 @@ pub fn detect_format(bytes: &[u8]) -> Option<MeshFormat> {
     if bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r") {
         return Some(ply::encoding_hint(bytes));
     }
-    if stl::binary_size_matches(bytes) {
+    if stl::binary_size_matches(bytes) || stl::binary_count_unfilled(bytes) {
         return Some(MeshFormat::StlBinary);
     }
     let mut first_tokens = text::Lines::new(bytes)

@@ -32,6 +32,13 @@ pub(super) fn binary_size_matches(bytes: &[u8]) -> bool {
     claimed_count(bytes).is_some_and(|n| 84 + RECORD * u64::from(n) == bytes.len() as u64)
 }
 
+/// Whether the header claims no triangle and a positive whole number of
+/// records follows (a count never filled in, read by size).
+pub(super) fn binary_count_unfilled(bytes: &[u8]) -> bool {
+    let available = (bytes.len() as u64).saturating_sub(84);
+    claimed_count(bytes) == Some(0) && available > 0 && available % RECORD == 0
+}
+
 /// Whether the file starts (after blanks) with the keyword `solid`.
 fn starts_with_solid(bytes: &[u8]) -> bool {
     let start = bytes
@@ -65,12 +72,12 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
         return match read_ascii(bytes) {
             Ok(r) => Ok(r),
             Err(e) => {
-                let has_room = claimed_count(bytes)
-                    .is_some_and(|n| 84 + RECORD * u64::from(n) <= bytes.len() as u64);
-                if has_room && !looks_like_text(bytes) {
-                    read_binary(bytes)
-                } else {
+                // Content that is not text is binary whatever its header
+                // says: the binary reader's verdict names what is wrong.
+                if looks_like_text(bytes) {
                     Err(e)
+                } else {
+                    read_binary(bytes)
                 }
             }
         };
@@ -97,8 +104,17 @@ fn read_binary(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
         expected: 84,
         got: len,
     })?;
-    let need = 84 + RECORD * u64::from(n);
     let available = len - 84;
+    let mut notes = Vec::new();
+    let n = if binary_count_unfilled(bytes) {
+        notes.push(LoadNote::StlCountZero {
+            triangles: available / RECORD,
+        });
+        u32::try_from(available / RECORD).unwrap_or(u32::MAX)
+    } else {
+        n
+    };
+    let need = 84 + RECORD * u64::from(n);
     if need > len {
         // Less than half of the claimed data: the count is not to be trusted.
         return Err(if available < RECORD * u64::from(n) / 2 {
@@ -124,7 +140,6 @@ fn read_binary(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
             limit: super::MAX_ELEMENTS as u64,
         });
     }
-    let mut notes = Vec::new();
     if bytes.len() >= 5 && bytes[..5].eq_ignore_ascii_case(b"solid") {
         notes.push(LoadNote::BinaryStlHeaderSaysSolid);
     }
@@ -140,8 +155,14 @@ fn read_binary(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
         [f(records, o), f(records, o + 4), f(records, o + 8)]
     })
     .map_err(|e| weld_error(e, format))?;
-    if need < len {
-        notes.push(LoadNote::TrailingBytes { bytes: len - need });
+    let rest = len - need;
+    if rest > 0 && rest % RECORD == 0 {
+        notes.push(LoadNote::StlUnclaimedTriangles {
+            claimed: n,
+            more: rest / RECORD,
+        });
+    } else if rest > 0 {
+        notes.push(LoadNote::TrailingBytes { bytes: rest });
     }
     Ok(report(welded, format, notes))
 }
