@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Usage: scripts/heldout.sh [--snap Q] [--max N] MESH...
+# Usage: scripts/heldout.sh [--snap Q] [--drop-collapsed] [--max N] MESH...
 #
 # Slices meshes you did not make at their hardest levels and re-checks
 # every result independently: for each mesh that `wmslice check` accepts
@@ -15,10 +15,11 @@
 # the binary (default: this tree's, built when stale).
 set -uo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
-snap=(); max=400
+snap=(); drop=(); max=400
 while [ $# -gt 0 ]; do
     case "$1" in
         --snap) snap=(--snap "$2"); shift ;;
+        --drop-collapsed) drop=(--drop-collapsed) ;;
         --max) max="$2"; shift ;;
         -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
         *) break ;;
@@ -36,11 +37,11 @@ tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 failed=0
 for m in "$@"; do
     n=$(basename "$m")
-    if ! "$wm" check "$m" "${snap[@]}" > "$tmp/check" 2>&1; then
+    if ! "$wm" check "$m" "${snap[@]}" "${drop[@]}" > "$tmp/check" 2>&1; then
         echo "refused  $n: $(grep -m1 '^error' "$tmp/check" | cut -c1-150)"
         continue
     fi
-    if ! "$wm" critical "$m" "${snap[@]}" --format json -o "$tmp/critical.json" 2> "$tmp/err"; then
+    if ! "$wm" critical "$m" "${snap[@]}" "${drop[@]}" --format json -o "$tmp/critical.json" 2> "$tmp/err"; then
         echo "FAILED   $n: critical: $(head -c 300 "$tmp/err")"; failed=1; continue
     fi
     python3 - "$tmp/critical.json" "$max" > "$tmp/levels" <<'PY'
@@ -59,7 +60,7 @@ print("\n".join(f"{z.numerator}/{z.denominator}" for z in out))
 PY
     levels=$(wc -l < "$tmp/levels")
     if [ "$levels" = 0 ]; then echo "skipped  $n: no critical height"; continue; fi
-    if ! "$wm" slice "$m" "${snap[@]}" --levels-file "$tmp/levels" --exact --format json \
+    if ! "$wm" slice "$m" "${snap[@]}" "${drop[@]}" --levels-file "$tmp/levels" --exact --format json \
             --quiet -o "$tmp/result.json" 2> "$tmp/err"; then
         echo "FAILED   $n: slice: $(head -c 300 "$tmp/err")"; failed=1; continue
     fi

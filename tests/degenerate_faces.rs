@@ -21,6 +21,8 @@ use wmslice::exact::rational::Rat;
 use wmslice::ids::{FaceId, VertexId};
 use wmslice::levelset::{LevelSet, Loop};
 use wmslice::mesh::flip::{repair_degenerate, Unflippable};
+use wmslice::mesh::io::ExactPositions;
+use wmslice::mesh::prepare::{prepare_exact_with, CollapsedFaces};
 use wmslice::mesh::validate::{validate, Defect};
 use wmslice::nest::Role;
 use wmslice::{Mesh, Slicer};
@@ -488,4 +490,83 @@ fn faces_snapping_collapses_are_refused_with_the_snap_named() {
     // The same file on a grid fine enough keeps the vertices apart.
     let (code, _, err) = common::wmslice(&["check", &s(&file), "--snap", "0.000001"]);
     assert_eq!(code, 0, "{err}");
+}
+
+/// The file of the test above with `--drop-collapsed`: the two faces
+/// snapping collapsed are removed (they have no area), what is left is the
+/// box built without the extra vertex (the same levels, exactly), the
+/// header says how many went, and `verify` removes them too. Without the
+/// header's key, `verify` loads the mesh as the default mode does and
+/// refuses it.
+#[test]
+fn faces_snapping_collapses_are_dropped_on_request_and_verified() {
+    let (mut got, mesh) = cad_box_with_sliver();
+    got.positions[8] = [f64::from(1e-4f32), 0.0, f64::from(6e-5f32)];
+    let q = Rat::new(1.into(), 1000.into());
+    let p = prepare_exact_with(
+        got.clone(),
+        &ExactPositions::default(),
+        Some(&q),
+        CollapsedFaces::Drop,
+    )
+    .unwrap();
+    assert_eq!(p.dropped.len(), 2);
+    assert!(p.flips.is_empty());
+    let plain = wmslice::mesh::snap::snap(&mesh, &q).unwrap();
+    let levels: Vec<Rat> = [0, 30, 60, 300, 600]
+        .iter()
+        .map(|&z| Rat::from_integer(z.into()))
+        .collect();
+    same_levels("collapsed faces dropped", &p.mesh, &plain.mesh, &levels, 0);
+    // The default mode leaves them for validation to refuse.
+    let kept = prepare_exact_with(
+        got.clone(),
+        &ExactPositions::default(),
+        Some(&q),
+        CollapsedFaces::Refuse,
+    )
+    .unwrap();
+    assert!(kept.dropped.is_empty());
+    assert!(!validate(&kept.mesh).is_accepted());
+
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("near.off");
+    std::fs::write(&file, off_text(&got)).unwrap();
+    let out = dir.path().join("out.json");
+    let s = |p: &std::path::Path| p.to_str().unwrap().to_owned();
+    let (code, _, err) = common::wmslice(&[
+        "slice",
+        &s(&file),
+        "--snap",
+        "0.001",
+        "--drop-collapsed",
+        "--at",
+        "0.06",
+        "--at",
+        "0.3",
+        "--format",
+        "json",
+        "--exact",
+        "-o",
+        &s(&out),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("removed 2 faces that use one vertex twice"),
+        "{err}"
+    );
+    let text = std::fs::read_to_string(&out).unwrap();
+    let doc: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(doc["mesh"]["dropped_collapsed"], 2);
+    assert_eq!(
+        doc["mesh"]["sha256"].as_str().unwrap(),
+        wmslice::output::json::mesh_sha256(&p.mesh)
+    );
+    let (code, said, err) = common::wmslice(&["verify", &s(&file), &s(&out)]);
+    assert_eq!(code, 0, "{said}{err}");
+    let bare = dir.path().join("bare.json");
+    std::fs::write(&bare, text.replace(r#","dropped_collapsed":2"#, "")).unwrap();
+    let (code, _, err) = common::wmslice(&["verify", &s(&file), &s(&bare)]);
+    assert_eq!(code, 3, "{err}");
+    assert!(err.contains("repeats a vertex"), "{err}");
 }

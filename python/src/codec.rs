@@ -342,6 +342,8 @@ pub fn decode(data: &[u8]) -> Res<(LevelSet, MeshHeader, bool)> {
         faces: r.len_value()?,
         sha256: r.str()?,
         snap: if r.bool()? { Some(r.str()?) } else { None },
+        // The package has no `--drop-collapsed`: never set.
+        dropped_collapsed: None,
     };
     let exact = r.bool()?;
     let level = r.rat()?;

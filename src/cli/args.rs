@@ -48,6 +48,8 @@ pub struct CriticalArgs {
     /// Snap coordinates to the grid Q (decimal or p/q) first.
     #[arg(long, value_name = "Q")]
     pub snap: Option<String>,
+    #[command(flatten)]
+    pub collapsed: CollapsedArg,
     /// Output format.
     #[arg(long, value_enum, default_value_t = CriticalFormat::Text)]
     pub format: CriticalFormat,
@@ -152,6 +154,8 @@ pub struct CheckArgs {
     /// Snap coordinates to the grid Q first (decimal or p/q).
     #[arg(long, value_name = "Q")]
     pub snap: Option<String>,
+    #[command(flatten)]
+    pub collapsed: CollapsedArg,
 }
 
 /// Output format of `slice`.
@@ -211,6 +215,8 @@ pub struct SliceArgs {
     /// Snap coordinates to the grid Q (decimal or p/q) before slicing.
     #[arg(long, value_name = "Q")]
     pub snap: Option<String>,
+    #[command(flatten)]
+    pub collapsed: CollapsedArg,
     /// Add exact rationals (points, areas) and mesh elements to JSON.
     #[arg(long)]
     pub exact: bool,
@@ -244,4 +250,24 @@ pub struct SliceArgs {
     /// Write a certificate (hashes, versions, levels, counts, verdict).
     #[arg(long, value_name = "FILE")]
     pub certificate: Option<PathBuf>,
+}
+
+/// `--drop-collapsed`, shared by the commands that load a mesh to slice.
+#[derive(Args, Clone, Copy, Debug, Default)]
+pub struct CollapsedArg {
+    /// Remove faces that use one vertex twice (left by welding or snapping;
+    /// no area) instead of refusing the mesh; recorded in the JSON header.
+    #[arg(long)]
+    pub drop_collapsed: bool,
+}
+
+impl CollapsedArg {
+    /// The library's mode.
+    pub fn mode(self) -> wmslice::mesh::prepare::CollapsedFaces {
+        if self.drop_collapsed {
+            wmslice::mesh::prepare::CollapsedFaces::Drop
+        } else {
+            wmslice::mesh::prepare::CollapsedFaces::Refuse
+        }
+    }
 }

@@ -16,7 +16,7 @@ use wmslice::output::atomic::write_atomic;
 use wmslice::output::certificate::{
     sha256_hex, Certificate, InputPart, LevelPart, Numeric, Options, ResultPart, Tool, Verdict,
 };
-use wmslice::output::json::{to_json, Exactness, MeshHeader};
+use wmslice::output::json::{to_json, Exactness};
 use wmslice::verify::Verifier;
 use wmslice::LevelSet;
 
@@ -36,7 +36,7 @@ pub fn write(
     sets: &[LevelSet],
     result: &[u8],
 ) -> Result<(), Failure> {
-    let header = MeshHeader::new(&input.mesh, input.unit.as_ref());
+    let header = input.header();
     let document = to_json(&header, sets, Exactness::WithExact);
     let verification = Verifier::new(&input.mesh, input.unit.as_ref())
         .and_then(|v| Verdict::of(&v, &document))

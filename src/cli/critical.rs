@@ -11,7 +11,6 @@ use wmslice::exact::parse_rational;
 use wmslice::exact::rational::Rat;
 use wmslice::layers::height_range;
 use wmslice::output::critical::{critical_json, critical_text};
-use wmslice::output::json::MeshHeader;
 use wmslice::output::reeb_svg::reeb_svg;
 use wmslice::Slicer;
 
@@ -42,7 +41,7 @@ fn plan(
 /// Runs `critical`.
 pub fn run(a: CriticalArgs) -> Result<(), Failure> {
     let (_, pool) = worker_pool(a.threads)?;
-    let input = pool.install(|| load_input(&a.mesh, a.snap.as_deref()))?;
+    let input = pool.install(|| load_input(&a.mesh, a.snap.as_deref(), a.collapsed.mode()))?;
     for n in &input.notes {
         eprintln!("note: {n}");
     }
@@ -53,7 +52,7 @@ pub fn run(a: CriticalArgs) -> Result<(), Failure> {
     let (slicer, header) = pool.install(|| {
         rayon::join(
             || Slicer::with_unit(&input.mesh, unit.clone()),
-            || MeshHeader::new(&input.mesh, input.unit.as_ref()),
+            || input.header(),
         )
     });
     let slicer = slicer.map_err(slice_error)?;

@@ -14,8 +14,11 @@ use wmslice::exact::parse_rational;
 use wmslice::exact::rational::{rat_to_f64, rat_to_string, Rat};
 use wmslice::mesh::flip::Flip;
 use wmslice::mesh::io::{load_bytes_exact, ExactPositions, MeshFormat};
-use wmslice::mesh::prepare::{prepare_exact, PrepareError, SnapStats};
-use wmslice::Mesh;
+use wmslice::mesh::prepare::{
+    is_collapsed, prepare_exact_with, CollapsedFaces, PrepareError, SnapStats,
+};
+use wmslice::output::json::MeshHeader;
+use wmslice::{FaceId, Mesh};
 
 /// A mesh as given on the command line: a file, or a built-in dataset.
 pub struct Input {
@@ -31,6 +34,9 @@ pub struct Input {
     pub file_bytes: Vec<u8>,
     /// The edge flips that removed degenerate faces, in the order made.
     pub flips: Vec<Flip>,
+    /// The faces that used one vertex twice, removed (ids as read), when
+    /// the mode was [`CollapsedFaces::Drop`]; `None` in the default mode.
+    pub dropped: Option<Vec<FaceId>>,
 }
 
 /// At most this many flips are listed in the note; the rest are counted.
@@ -55,15 +61,34 @@ fn flips_note(flips: &[Flip]) -> String {
 
 /// How many faces use one vertex twice (by id).
 fn collapsed_faces(mesh: &wmslice::mesh::Mesh) -> usize {
-    mesh.faces
-        .iter()
-        .filter(|[a, b, c]| a == b || b == c || a == c)
-        .count()
+    mesh.faces.iter().filter(|&&f| is_collapsed(f)).count()
 }
 
-/// Reads the mesh, snaps it when asked and removes degenerate faces
-/// ([`wmslice::mesh::prepare`]), with notes for the user.
-pub fn load_input(spec: &str, snap_arg: Option<&str>) -> Result<Input, Failure> {
+/// The note on the faces `--drop-collapsed` removed.
+fn dropped_note(dropped: &[FaceId]) -> String {
+    let mut listed: Vec<String> = dropped
+        .iter()
+        .take(LISTED_FLIPS)
+        .map(|f| f.to_string())
+        .collect();
+    if dropped.len() > LISTED_FLIPS {
+        listed.push(format!("and {} more", dropped.len() - LISTED_FLIPS));
+    }
+    format!(
+        "removed {} faces that use one vertex twice (no area; ids as read, later faces renumbered): {}",
+        dropped.len(),
+        listed.join(", ")
+    )
+}
+
+/// Reads the mesh, snaps it when asked, removes collapsed faces when asked
+/// and degenerate faces by flips ([`wmslice::mesh::prepare`]), with notes
+/// for the user.
+pub fn load_input(
+    spec: &str,
+    snap_arg: Option<&str>,
+    collapsed_mode: CollapsedFaces,
+) -> Result<Input, Failure> {
     let path = Path::new(spec);
     let mut notes = Vec::new();
     let mut file_bytes = Vec::new();
@@ -98,7 +123,7 @@ pub fn load_input(spec: &str, snap_arg: Option<&str>) -> Result<Input, Failure> 
         });
     };
     let collapsed_before = collapsed_faces(&mesh);
-    let p = prepare_exact(mesh, &exact, q.as_ref()).map_err(|e| match e {
+    let p = prepare_exact_with(mesh, &exact, q.as_ref(), collapsed_mode).map_err(|e| match e {
         PrepareError::NotDoubles(e) => Failure {
             code: ExitCode::Input,
             error: e.into(),
@@ -118,11 +143,20 @@ pub fn load_input(spec: &str, snap_arg: Option<&str>) -> Result<Input, Failure> 
             s.merged
         ));
     }
-    let collapsed = collapsed_faces(&p.mesh).saturating_sub(collapsed_before);
-    if collapsed > 0 {
+    let collapsed = collapsed_faces(&p.mesh);
+    let by_snapping = collapsed.saturating_sub(collapsed_before);
+    if by_snapping > 0 {
         notes.push(format!(
-            "snapping put two corners of {collapsed} faces on one grid point: each repeats a vertex, which validation refuses; a finer grid keeps them apart"
+            "snapping put two corners of {by_snapping} faces on one grid point: each repeats a vertex, which validation refuses; a finer grid keeps them apart, or --drop-collapsed removes them"
         ));
+    } else if collapsed > 0 {
+        notes.push(format!(
+            "{collapsed} faces use one vertex twice, which validation refuses; --drop-collapsed removes them (no area: the surface does not change)"
+        ));
+    }
+    let dropped = (collapsed_mode == CollapsedFaces::Drop).then_some(p.dropped);
+    if let Some(d) = dropped.as_deref().filter(|d| !d.is_empty()) {
+        notes.push(dropped_note(d));
     }
     if !p.flips.is_empty() {
         notes.push(flips_note(&p.flips));
@@ -134,5 +168,14 @@ pub fn load_input(spec: &str, snap_arg: Option<&str>) -> Result<Input, Failure> 
         notes,
         file_bytes,
         flips: p.flips,
+        dropped,
     })
+}
+
+impl Input {
+    /// The JSON header of the mesh as sliced.
+    pub fn header(&self) -> MeshHeader {
+        MeshHeader::new(&self.mesh, self.unit.as_ref())
+            .with_dropped(self.dropped.as_ref().map(Vec::len))
+    }
 }

@@ -161,7 +161,7 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
     let (threads, pool) = worker_pool(a.threads)?;
     let mut steps = Steps::start();
     let loading = step("reading and welding the mesh", a.quiet);
-    let input = pool.install(|| load_input(&a.mesh, a.snap.as_deref()));
+    let input = pool.install(|| load_input(&a.mesh, a.snap.as_deref(), a.collapsed.mode()));
     loading.finish_and_clear();
     let input = input?;
     steps.mark("reading");
@@ -323,7 +323,7 @@ fn header_and_plan<'a>(
     levels: &'a [Rat],
 ) -> (MeshHeader, SweepPlan<'a>) {
     rayon::join(
-        || MeshHeader::new(&input.mesh, input.unit.as_ref()),
+        || input.header(),
         || SweepPlan::new(&input.mesh, unit, levels),
     )
 }

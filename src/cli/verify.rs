@@ -7,13 +7,16 @@
 //! with exact output exits 4; a mesh the slicer rejects exits 3.
 //!
 //! The snap grid is `--snap Q` when given, else the one the result's header
-//! names; the header must match the grid verified against.
+//! names; the header must match the grid verified against. Faces that use
+//! one vertex twice are removed first when the header has
+//! `dropped_collapsed` (`slice --drop-collapsed`).
 
 use super::args::VerifyArgs;
 use super::input::load_input;
 use super::{ExitCode, Failure, Tag};
 use crate::say;
 use anyhow::anyhow;
+use wmslice::mesh::prepare::CollapsedFaces;
 use wmslice::verify::{read_header, verify, VerifyError};
 
 /// Runs `verify`.
@@ -34,7 +37,13 @@ pub fn run(a: VerifyArgs) -> Result<(), Failure> {
     };
     let header = read_header(&text).map_err(unreadable)?;
     let snap = a.snap.clone().or(header.snap);
-    let input = load_input(&a.mesh, snap.as_deref())?;
+    // Collapsed faces are removed as the header says the slicer did; the
+    // mesh hash then tells whether the same faces went.
+    let collapsed = match header.dropped_collapsed {
+        Some(_) => CollapsedFaces::Drop,
+        None => CollapsedFaces::Refuse,
+    };
+    let input = load_input(&a.mesh, snap.as_deref(), collapsed)?;
     let report = verify(&input.mesh, input.unit.as_ref(), &text).map_err(unreadable)?;
     if report.passed() {
         say!("{shown}: {}", report.summary());

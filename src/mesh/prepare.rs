@@ -2,14 +2,17 @@
 //! have no exact double, from 3MF transforms: [`ExactPositions`]) and an
 //! optional snap grid. Output: the mesh as sliced, with what was done to
 //! it: snapped to the grid when asked ([`crate::mesh::snap`], the one
-//! reported rounding), then rid of the degenerate faces edge flips remove
-//! ([`crate::mesh::flip`], exact; the surface does not move).
+//! reported rounding), then, when the user asks for it, rid of the faces
+//! that use one vertex twice ([`CollapsedFaces::Drop`]), then rid of the
+//! degenerate faces edge flips remove ([`crate::mesh::flip`], exact; the
+//! surface does not move).
 //!
 //! Every front end (the command line, the Python package) takes a mesh
 //! through these steps, so the mesh hash in a result is that of the same
 //! mesh whichever one sliced it.
 
 use crate::exact::rational::Rat;
+use crate::ids::FaceId;
 use crate::mesh::flip::{repair_degenerate, Flip};
 use crate::mesh::io::{ExactPositions, LoadError};
 use crate::mesh::snap::{snap_exact, SnapError};
@@ -29,6 +32,21 @@ pub struct SnapStats {
     pub merged: usize,
 }
 
+/// What to do with faces that use one vertex twice (after welding or
+/// snapping): a segment or a point, no area.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CollapsedFaces {
+    /// Leave them: validation refuses each by name (SPEC 1).
+    #[default]
+    Refuse,
+    /// Remove them before the edge flips and validation: the lenient mode
+    /// SPEC 1 allows at the user's request. The surface's point set does
+    /// not change (each removed face lies in the edges of the others, or
+    /// the result is refused like any mesh); the faces after a removed one
+    /// are renumbered, so face ids are those of the mesh as sliced.
+    Drop,
+}
+
 /// A mesh ready to slice.
 #[derive(Clone, Debug)]
 pub struct Prepared {
@@ -39,6 +57,9 @@ pub struct Prepared {
     pub unit: Option<Rat>,
     /// What snapping did, when snapped.
     pub snap: Option<SnapStats>,
+    /// The faces removed by [`CollapsedFaces::Drop`], by their ids as
+    /// read (or as snapped: snapping keeps the faces in order).
+    pub dropped: Vec<FaceId>,
     /// The edge flips that removed degenerate faces, in the order made.
     pub flips: Vec<Flip>,
 }
@@ -50,8 +71,8 @@ pub struct Prepared {
 /// coordinate itself.
 pub fn prepare(mesh: Mesh, q: Option<&Rat>) -> Result<Prepared, SnapError> {
     match q {
-        None => Ok(repair(mesh, None, None)),
-        Some(q) => on_grid(mesh, &ExactPositions::default(), q),
+        None => Ok(repair(mesh, None, None, CollapsedFaces::Refuse)),
+        Some(q) => on_grid(mesh, &ExactPositions::default(), q, CollapsedFaces::Refuse),
     }
 }
 
@@ -76,16 +97,32 @@ pub fn prepare_exact(
     exact: &ExactPositions,
     q: Option<&Rat>,
 ) -> Result<Prepared, PrepareError> {
+    prepare_exact_with(mesh, exact, q, CollapsedFaces::Refuse)
+}
+
+/// As [`prepare_exact`], the faces that use one vertex twice removed after
+/// snapping when `collapsed` says so.
+pub fn prepare_exact_with(
+    mesh: Mesh,
+    exact: &ExactPositions,
+    q: Option<&Rat>,
+    collapsed: CollapsedFaces,
+) -> Result<Prepared, PrepareError> {
     match (q, exact.refusal()) {
-        (Some(q), _) => Ok(on_grid(mesh, exact, q)?),
-        (None, None) => Ok(repair(mesh, None, None)),
+        (Some(q), _) => Ok(on_grid(mesh, exact, q, collapsed)?),
+        (None, None) => Ok(repair(mesh, None, None, collapsed)),
         (None, Some(e)) => Err(PrepareError::NotDoubles(e)),
     }
 }
 
 /// Snaps to `q` (the vertices in `exact` from their exact positions), then
 /// repairs.
-fn on_grid(mesh: Mesh, exact: &ExactPositions, q: &Rat) -> Result<Prepared, SnapError> {
+fn on_grid(
+    mesh: Mesh,
+    exact: &ExactPositions,
+    q: &Rat,
+    collapsed: CollapsedFaces,
+) -> Result<Prepared, SnapError> {
     let s = snap_exact(&mesh, exact, q)?;
     drop(mesh);
     let stats = SnapStats {
@@ -94,11 +131,34 @@ fn on_grid(mesh: Mesh, exact: &ExactPositions, q: &Rat) -> Result<Prepared, Snap
         max_move: s.max_move,
         merged: s.merged,
     };
-    Ok(repair(s.mesh, Some(s.unit), Some(stats)))
+    Ok(repair(s.mesh, Some(s.unit), Some(stats), collapsed))
 }
 
-/// Removes the degenerate faces edge flips can remove.
-fn repair(mesh: Mesh, unit: Option<Rat>, snap: Option<SnapStats>) -> Prepared {
+/// Whether a face uses one vertex twice.
+pub fn is_collapsed([a, b, c]: [crate::ids::VertexId; 3]) -> bool {
+    a == b || b == c || a == c
+}
+
+/// Removes the collapsed faces when asked, then the degenerate faces edge
+/// flips can remove.
+fn repair(
+    mut mesh: Mesh,
+    unit: Option<Rat>,
+    snap: Option<SnapStats>,
+    collapsed: CollapsedFaces,
+) -> Prepared {
+    let mut dropped = Vec::new();
+    if collapsed == CollapsedFaces::Drop {
+        let mut id = 0;
+        mesh.faces.retain(|&f| {
+            let keep = !is_collapsed(f);
+            if !keep {
+                dropped.push(FaceId::from_idx(id));
+            }
+            id += 1;
+            keep
+        });
+    }
     let r = repair_degenerate(&mesh);
     let flips = r.flips;
     let repaired = match r.mesh {
@@ -109,6 +169,7 @@ fn repair(mesh: Mesh, unit: Option<Rat>, snap: Option<SnapStats>) -> Prepared {
         mesh: repaired.unwrap_or(mesh),
         unit,
         snap,
+        dropped,
         flips,
     }
 }

@@ -36,6 +36,10 @@ pub struct MeshHeader {
     pub sha256: String,
     /// The snap grid, or null.
     pub snap: Option<String>,
+    /// With `--drop-collapsed` (an extra key, absent otherwise): how many
+    /// faces that used one vertex twice were removed before slicing.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dropped_collapsed: Option<usize>,
 }
 
 impl MeshHeader {
@@ -46,6 +50,16 @@ impl MeshHeader {
             faces: mesh.num_faces(),
             sha256: mesh_sha256(mesh),
             snap: snap.map(rat_to_string),
+            dropped_collapsed: None,
+        }
+    }
+
+    /// The same header, saying how many collapsed faces were removed
+    /// (`None`: the default mode, which removes none).
+    pub fn with_dropped(self, dropped: Option<usize>) -> Self {
+        MeshHeader {
+            dropped_collapsed: dropped,
+            ..self
         }
     }
 }

@@ -162,6 +162,9 @@ pub struct HeaderDoc {
     pub sha256: String,
     /// Snap grid text, or `None` for null.
     pub snap: Option<String>,
+    /// `dropped_collapsed` when present: the result was computed with the
+    /// faces that use one vertex twice removed, and this many were.
+    pub dropped_collapsed: Option<u64>,
 }
 
 /// A whole `wmslice-levelset` document.
@@ -206,6 +209,10 @@ pub fn header(v: &Value) -> Result<HeaderDoc, FormatError> {
         Value::Null => None,
         s => Some(string(s, &mc.key("snap"))?),
     };
+    let dropped_collapsed = match m.get_mut("dropped_collapsed") {
+        Some(v) => Some(integer(v, &mc.key("dropped_collapsed"))?),
+        None => None,
+    };
     if get("levels")?.as_array().is_none() {
         return Err(root.key("levels").shape("an array"));
     }
@@ -214,6 +221,7 @@ pub fn header(v: &Value) -> Result<HeaderDoc, FormatError> {
         faces,
         sha256,
         snap,
+        dropped_collapsed,
     })
 }
 
