@@ -151,7 +151,7 @@ pub fn load_input(
         ));
     } else if collapsed > 0 {
         notes.push(format!(
-            "{collapsed} faces use one vertex twice, which validation refuses; --drop-collapsed removes them (no area: the surface does not change)"
+            "{collapsed} faces use one vertex twice, which validation refuses; --drop-collapsed removes them (they have no area)"
         ));
     }
     let dropped = (collapsed_mode == CollapsedFaces::Drop).then_some(p.dropped);

@@ -40,10 +40,11 @@ pub enum CollapsedFaces {
     #[default]
     Refuse,
     /// Remove them before the edge flips and validation: the lenient mode
-    /// SPEC 1 allows at the user's request. The surface's point set does
-    /// not change (each removed face lies in the edges of the others, or
-    /// the result is refused like any mesh); the faces after a removed one
-    /// are renumbered, so face ids are those of the mesh as sliced.
+    /// SPEC 1 allows at the user's request. They have no area, so the
+    /// solid the other faces bound is the same; what they held off those
+    /// faces' edges (a loose segment or point) is gone. The faces after a
+    /// removed one are renumbered, so face ids are those of the mesh as
+    /// sliced.
     Drop,
 }
 
