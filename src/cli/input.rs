@@ -39,23 +39,25 @@ pub struct Input {
     pub dropped: Option<Vec<FaceId>>,
 }
 
-/// At most this many flips are listed in the note; the rest are counted.
-const LISTED_FLIPS: usize = 10;
+/// At most this many flips or removed faces are listed in a note; the rest
+/// are counted.
+const LISTED: usize = 10;
+
+/// The first [`LISTED`] items, then how many more.
+fn listed<T: std::fmt::Display>(items: &[T]) -> String {
+    let mut text: Vec<String> = items.iter().take(LISTED).map(T::to_string).collect();
+    if items.len() > LISTED {
+        text.push(format!("and {} more", items.len() - LISTED));
+    }
+    text.join(", ")
+}
 
 /// The note on the degenerate faces removed by edge flips.
 fn flips_note(flips: &[Flip]) -> String {
-    let mut listed: Vec<String> = flips
-        .iter()
-        .take(LISTED_FLIPS)
-        .map(|f| f.to_string())
-        .collect();
-    if flips.len() > LISTED_FLIPS {
-        listed.push(format!("and {} more", flips.len() - LISTED_FLIPS));
-    }
     format!(
         "flipped {} degenerate faces (a vertex inside the opposite edge; the surface does not move): {}",
         flips.len(),
-        listed.join(", ")
+        listed(flips)
     )
 }
 
@@ -66,18 +68,10 @@ fn collapsed_faces(mesh: &wmslice::mesh::Mesh) -> usize {
 
 /// The note on the faces `--drop-collapsed` removed.
 fn dropped_note(dropped: &[FaceId]) -> String {
-    let mut listed: Vec<String> = dropped
-        .iter()
-        .take(LISTED_FLIPS)
-        .map(|f| f.to_string())
-        .collect();
-    if dropped.len() > LISTED_FLIPS {
-        listed.push(format!("and {} more", dropped.len() - LISTED_FLIPS));
-    }
     format!(
         "removed {} faces that use one vertex twice (no area; ids as read, later faces renumbered): {}",
         dropped.len(),
-        listed.join(", ")
+        listed(dropped)
     )
 }
 
