@@ -456,10 +456,17 @@ fn an_unrepairable_mesh_exits_3_naming_the_face_and_writes_nothing() {
 /// one vertex). The command line says snapping did it and how to avoid
 /// it, and reports the refused mesh in the file's units, not in grid
 /// steps.
+/// [`cad_box_with_sliver`] with the sliver's vertex a hair from vertex 0
+/// (1e-4 along the box's diagonal, as `f32`), and the box without it.
+fn cad_box_with_near_vertex() -> (Mesh, Mesh) {
+    let (mut got, mesh) = cad_box_with_sliver();
+    got.positions[8] = [f64::from(1e-4f32), 0.0, f64::from(6e-5f32)];
+    (got, mesh)
+}
+
 #[test]
 fn faces_snapping_collapses_are_refused_with_the_snap_named() {
-    let (mut got, _) = cad_box_with_sliver();
-    got.positions[8] = [f64::from(1e-4f32), 0.0, f64::from(6e-5f32)];
+    let (got, _) = cad_box_with_near_vertex();
     assert!(validate(&got).is_accepted(), "{}", validate(&got));
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("near.off");
@@ -500,8 +507,7 @@ fn faces_snapping_collapses_are_refused_with_the_snap_named() {
 /// refuses it.
 #[test]
 fn faces_snapping_collapses_are_dropped_on_request_and_verified() {
-    let (mut got, mesh) = cad_box_with_sliver();
-    got.positions[8] = [f64::from(1e-4f32), 0.0, f64::from(6e-5f32)];
+    let (got, mesh) = cad_box_with_near_vertex();
     let q = Rat::new(1.into(), 1000.into());
     let p = prepare_exact_with(
         got.clone(),
