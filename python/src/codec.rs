@@ -125,12 +125,16 @@ pub fn encode(ls: &LevelSet, header: &MeshHeader, exact: bool) -> Vec<u8> {
     w.len(header.vertices);
     w.len(header.faces);
     w.str(&header.sha256);
-    match &header.snap {
-        None => w.u8(0),
-        Some(s) => {
-            w.u8(1);
-            w.str(s);
-        }
+    // Bit 0: a snap grid follows; bit 1: a count of dropped collapsed
+    // faces follows (older encodings write 0 or 1).
+    let flags =
+        u8::from(header.snap.is_some()) | (u8::from(header.dropped_collapsed.is_some()) << 1);
+    w.u8(flags);
+    if let Some(s) = &header.snap {
+        w.str(s);
+    }
+    if let Some(n) = header.dropped_collapsed {
+        w.len(n);
     }
     w.u8(exact.into());
     w.rat(&ls.level);
@@ -337,13 +341,23 @@ pub fn decode(data: &[u8]) -> Res<(LevelSet, MeshHeader, bool)> {
     if r.take(TAG.len())? != TAG {
         return Err("not this package's level format".into());
     }
+    let (vertices, faces, sha256) = (r.len_value()?, r.len_value()?, r.str()?);
+    let flags = r.u8()?;
+    if flags > 3 {
+        return Err("not this package's level format (header flags)".into());
+    }
+    let snap = if flags & 1 == 1 { Some(r.str()?) } else { None };
+    let dropped_collapsed = if flags & 2 == 2 {
+        Some(r.len_value()?)
+    } else {
+        None
+    };
     let header = MeshHeader {
-        vertices: r.len_value()?,
-        faces: r.len_value()?,
-        sha256: r.str()?,
-        snap: if r.bool()? { Some(r.str()?) } else { None },
-        // The package has no `--drop-collapsed`: never set.
-        dropped_collapsed: None,
+        vertices,
+        faces,
+        sha256,
+        snap,
+        dropped_collapsed,
     };
     let exact = r.bool()?;
     let level = r.rat()?;

@@ -6,8 +6,9 @@
 
 use std::sync::OnceLock;
 use wmslice::exact::rational::Rat;
+use wmslice::ids::FaceId;
 use wmslice::mesh::flip::Flip;
-use wmslice::mesh::prepare::{prepare, SnapStats};
+use wmslice::mesh::prepare::{prepare_with, CollapsedFaces, SnapStats};
 use wmslice::mesh::snap::SnapError;
 use wmslice::mesh::validate::Report;
 use wmslice::output::json::MeshHeader;
@@ -47,15 +48,20 @@ pub struct MeshCore {
     pub snap: Option<SnapStats>,
     /// The degenerate faces removed by edge flips.
     pub flips: Vec<Flip>,
+    /// The faces that used one vertex twice, removed (ids as given), when
+    /// asked for (`drop_collapsed`); `None` otherwise.
+    pub dropped: Option<Vec<FaceId>>,
     header: OnceLock<MeshHeader>,
 }
 
 impl MeshCore {
-    /// Snaps (when `q` is given), flips degenerate faces, validates and
-    /// builds the topology.
-    pub fn new(mesh: Mesh, q: Option<&Rat>) -> Result<Self, CoreError> {
-        let p = prepare(mesh, q).map_err(CoreError::Snap)?;
-        Self::prepared(p.mesh, p.unit, p.snap, p.flips)
+    /// Snaps (when `q` is given), removes collapsed faces (when
+    /// `collapsed` says so), flips degenerate faces, validates and builds
+    /// the topology.
+    pub fn new(mesh: Mesh, q: Option<&Rat>, collapsed: CollapsedFaces) -> Result<Self, CoreError> {
+        let p = prepare_with(mesh, q, collapsed).map_err(CoreError::Snap)?;
+        let dropped = (collapsed == CollapsedFaces::Drop).then_some(p.dropped);
+        Self::prepared(p.mesh, p.unit, p.snap, p.flips, dropped)
     }
 
     /// Validates a mesh already prepared (unpickling): `unit` is its grid.
@@ -64,6 +70,7 @@ impl MeshCore {
         unit: Option<Rat>,
         snap: Option<SnapStats>,
         flips: Vec<Flip>,
+        dropped: Option<Vec<FaceId>>,
     ) -> Result<Self, CoreError> {
         let owner = Owner {
             mesh,
@@ -80,6 +87,7 @@ impl MeshCore {
             cell,
             snap,
             flips,
+            dropped,
             header: OnceLock::new(),
         })
     }
@@ -106,7 +114,9 @@ impl MeshCore {
 
     /// The JSON header (the mesh's SHA-256 is computed on first use).
     pub fn header(&self) -> &MeshHeader {
-        self.header
-            .get_or_init(|| MeshHeader::new(self.mesh(), self.grid()))
+        self.header.get_or_init(|| {
+            MeshHeader::new(self.mesh(), self.grid())
+                .with_dropped(self.dropped.as_ref().map(Vec::len))
+        })
     }
 }

@@ -17,10 +17,11 @@ use pyo3::types::{PyDict, PyList};
 use std::sync::Arc;
 use wmslice::critical::{self, fit::PlanReport};
 use wmslice::exact::rational::{rat_to_f64, rat_to_string, Rat};
+use wmslice::ids::FaceId;
 use wmslice::layers::{height_range, plan_levels, slice_levels_then, LayerPlan};
 use wmslice::levelset::LevelSet;
 use wmslice::mesh::io::{load_bytes_exact, read_file, MeshFormat};
-use wmslice::mesh::prepare::{prepare_exact, PrepareError};
+use wmslice::mesh::prepare::{prepare_exact_with, CollapsedFaces, PrepareError};
 use wmslice::mesh::validate::Severity;
 use wmslice::output::critical::critical_json;
 use wmslice::{datasets as builtin, Mesh as RawMesh};
@@ -41,13 +42,27 @@ fn core_error(py: Python<'_>, e: CoreError) -> PyErr {
 }
 
 /// Validates and prepares a mesh without the GIL.
-pub fn ready(py: Python<'_>, mesh: RawMesh, snap: Option<Rat>) -> PyResult<Mesh> {
+pub fn ready(
+    py: Python<'_>,
+    mesh: RawMesh,
+    snap: Option<Rat>,
+    collapsed: CollapsedFaces,
+) -> PyResult<Mesh> {
     let core = py
-        .detach(move || MeshCore::new(mesh, snap.as_ref()))
+        .detach(move || MeshCore::new(mesh, snap.as_ref(), collapsed))
         .map_err(|e| core_error(py, e))?;
     Ok(Mesh {
         core: Arc::new(core),
     })
+}
+
+/// The mode `drop_collapsed=` asks for.
+fn collapsed_of(drop_collapsed: bool) -> CollapsedFaces {
+    if drop_collapsed {
+        CollapsedFaces::Drop
+    } else {
+        CollapsedFaces::Refuse
+    }
 }
 
 fn snap_of(snap: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Rat>> {
@@ -265,21 +280,34 @@ fn ascending(mut levels: Vec<Rat>) -> PyResult<Vec<Rat>> {
 #[pymethods]
 impl Mesh {
     /// A mesh from `(n, 3)` vertices and `(m, 3)` faces (counter-clockwise
-    /// seen from outside), snapped to the grid `snap` when given, degenerate
-    /// faces removed by edge flips, then validated (`InvalidMesh` names every
-    /// defect).
+    /// seen from outside), snapped to the grid `snap` when given, faces
+    /// that use one vertex twice removed when `drop_collapsed` (SPEC 1's
+    /// lenient mode; later faces are renumbered), degenerate faces removed
+    /// by edge flips, then validated (`InvalidMesh` names every defect).
     #[new]
-    #[pyo3(signature = (vertices, faces, snap=None))]
+    #[pyo3(signature = (vertices, faces, snap=None, drop_collapsed=false))]
     fn new(
         py: Python<'_>,
         vertices: &Bound<'_, PyAny>,
         faces: &Bound<'_, PyAny>,
         snap: Option<&Bound<'_, PyAny>>,
+        drop_collapsed: bool,
     ) -> PyResult<Self> {
         let q = snap_of(snap)?;
         let positions = positions(vertices)?;
         let faces = self::faces(faces, positions.len())?;
-        ready(py, RawMesh::from_raw(positions, faces), q)
+        let mesh = RawMesh::from_raw(positions, faces);
+        ready(py, mesh, q, collapsed_of(drop_collapsed))
+    }
+
+    /// The faces `drop_collapsed` removed, by their ids as given; None
+    /// when not asked for.
+    #[getter]
+    fn dropped(&self) -> Option<Vec<u32>> {
+        self.core
+            .dropped
+            .as_ref()
+            .map(|d| d.iter().map(|f| f.0).collect())
     }
 
     /// Vertex count (as sliced: after snapping merged vertices).
@@ -500,23 +528,27 @@ impl Mesh {
             ),
             snap,
             flips,
+            self.dropped(),
         )
             .into_pyobject(py)?
             .into_any();
         Ok((restore, args))
     }
 
-    /// The mesh from [`Mesh::__reduce__`]'s state.
+    /// The mesh from [`Mesh::__reduce__`]'s state (`dropped` absent from
+    /// pickles made before `drop_collapsed`).
     #[staticmethod]
+    #[pyo3(signature = (positions, faces, snap, flips, dropped=None))]
     fn _restore(
         py: Python<'_>,
         positions: &[u8],
         faces: &[u8],
         snap: Option<(String, usize, String, usize)>,
         flips: Vec<[u32; 6]>,
+        dropped: Option<Vec<u32>>,
     ) -> PyResult<Mesh> {
         use wmslice::exact::parse_rational;
-        use wmslice::ids::{FaceId, VertexId};
+        use wmslice::ids::VertexId;
         use wmslice::mesh::flip::Flip;
         use wmslice::mesh::prepare::SnapStats;
         let bad = |what: &str| PyValueError::new_err(format!("not a pickled wmslice mesh: {what}"));
@@ -554,8 +586,9 @@ impl Mesh {
             .collect();
         let unit = stats.as_ref().map(|s| s.grid.clone());
         let mesh = RawMesh::from_raw(pos, tri);
+        let dropped = dropped.map(|d| d.into_iter().map(FaceId).collect());
         let core = py
-            .detach(move || MeshCore::prepared(mesh, unit, stats, flips))
+            .detach(move || MeshCore::prepared(mesh, unit, stats, flips, dropped))
             .map_err(|e| core_error(py, e))?;
         Ok(Mesh {
             core: Arc::new(core),
@@ -615,14 +648,17 @@ impl Mesh {
 
 /// Reads a mesh file (STL, OBJ, OFF, PLY, 3MF: every format the command
 /// line reads, told by extension and content), snaps it when asked,
+/// removes the faces that use one vertex twice when `drop_collapsed`,
 /// removes degenerate faces and validates it.
 #[pyfunction]
-#[pyo3(signature = (path, snap=None))]
+#[pyo3(signature = (path, snap=None, drop_collapsed=false))]
 pub fn load(
     py: Python<'_>,
     path: std::path::PathBuf,
     snap: Option<&Bound<'_, PyAny>>,
+    drop_collapsed: bool,
 ) -> PyResult<Mesh> {
+    let collapsed = collapsed_of(drop_collapsed);
     let q = snap_of(snap)?;
     let shown = path.display().to_string();
     let (mesh, exact) = py
@@ -641,13 +677,16 @@ pub fn load(
     // A 3MF vertex whose transformed position is not a double is placed
     // only by the grid; without one it is the file's error.
     let p = py
-        .detach(|| prepare_exact(mesh, &exact, q.as_ref()))
+        .detach(|| prepare_exact_with(mesh, &exact, q.as_ref(), collapsed))
         .map_err(|e| match e {
             PrepareError::NotDoubles(e) => load_error(&shown, e),
             PrepareError::Snap(e) => snap_error(py, e),
         })?;
     let core = py
-        .detach(move || MeshCore::prepared(p.mesh, p.unit, p.snap, p.flips))
+        .detach(move || {
+            let dropped = (collapsed == CollapsedFaces::Drop).then_some(p.dropped);
+            MeshCore::prepared(p.mesh, p.unit, p.snap, p.flips, dropped)
+        })
         .map_err(|e| core_error(py, e))?;
     Ok(Mesh {
         core: Arc::new(core),
@@ -664,7 +703,7 @@ pub fn dataset(py: Python<'_>, name: &str, snap: Option<&Bound<'_, PyAny>>) -> P
             "no built-in dataset {name:?}; wmslice.datasets() lists them"
         ))
     })?;
-    ready(py, d.build(), q)
+    ready(py, d.build(), q, CollapsedFaces::Refuse)
 }
 
 /// The built-in datasets: `(name, summary, degenerate levels as Fractions)`.

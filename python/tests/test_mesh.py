@@ -1,7 +1,9 @@
 """Meshes from numpy arrays and files: dtypes, answers derived by hand on
 the unit cube, and every error as a typed Python exception."""
 
+import json
 import math
+import pickle
 from fractions import Fraction
 
 import numpy as np
@@ -205,3 +207,51 @@ def test_overlapping_and_touching_bodies_are_refused_by_a_face_pair():
     apart = wmslice.Mesh(np.vstack([v, v + np.array([2.0, 0.0, 0.0])]), np.vstack([f, f + len(v)]))
     ls = apart.slice("1/2", exact=True)
     assert sorted(l.area_exact for l in ls.contours) == [1, 1]
+
+
+def cube_with_a_near_vertex():
+    """The unit cube with vertex 0 copied a hair away (vertex 8), face 4
+    moved onto the copy and the gap closed by two slivers (faces 12, 13)
+    that snapping to 1/1000000 collapses: each then uses vertex 0 twice."""
+    v, f = unit_cube()
+    v2 = np.vstack([v, [[1e-9, 0.0, 2e-9]]])
+    f2 = np.vstack([f, [[0, 1, 8], [0, 8, 4]]])
+    assert list(f2[4]) == [0, 1, 4]
+    f2[4] = [8, 1, 4]
+    return (v, f), (v2, f2)
+
+
+def test_faces_snapping_collapses_are_dropped_when_asked():
+    (v, f), (v2, f2) = cube_with_a_near_vertex()
+    with pytest.raises(wmslice.InvalidMesh, match="repeats a vertex"):
+        wmslice.Mesh(v2, f2, snap="1/1000000")
+    m = wmslice.Mesh(v2, f2, snap="1/1000000", drop_collapsed=True)
+    cube = wmslice.Mesh(v, f, snap="1/1000000")
+    assert m.dropped == [12, 13] and cube.dropped is None
+    # What is left is the cube itself: the same faces, hash and level sets.
+    assert np.array_equal(m.faces, cube.faces) and m.sha256 == cube.sha256
+    levels = [0, "1/2", 1]
+    got = json.loads(m.slice_many(levels, exact=True).to_json())
+    want = json.loads(cube.slice_many(levels, exact=True).to_json())
+    assert got["levels"] == want["levels"]
+    assert got["mesh"]["dropped_collapsed"] == 2 and "dropped_collapsed" not in want["mesh"]
+    # Pickled, the mesh and its levels keep the count in their header.
+    m2 = pickle.loads(pickle.dumps(m))
+    assert m2.dropped == [12, 13]
+    assert m2.slice_many(levels, exact=True).to_json() == m.slice_many(levels, exact=True).to_json()
+    back = pickle.loads(pickle.dumps(m.slice_many(levels, exact=True)))
+    assert json.loads(back.to_json())["mesh"]["dropped_collapsed"] == 2
+
+
+def test_a_file_with_faces_snapping_collapses_loads_when_asked(scratch):
+    (v, f), (v2, f2) = cube_with_a_near_vertex()
+    path = scratch / "near.obj"
+    path.write_text(
+        "".join(f"v {x!r} {y!r} {z!r}\n" for x, y, z in v2.tolist())
+        + "".join(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in f2.tolist())
+    )
+    with pytest.raises(wmslice.InvalidMesh, match="repeats a vertex"):
+        wmslice.load(path, snap="1/1000000")
+    m = wmslice.load(path, snap="1/1000000", drop_collapsed=True)
+    assert m.dropped == [12, 13]
+    assert m.sha256 == wmslice.Mesh(v, f, snap="1/1000000").sha256

@@ -383,19 +383,23 @@ class Mesh:
     """A closed, consistently oriented triangle mesh, validated and ready to
     slice.
 
-    ``Mesh(vertices, faces, snap=None)``: ``vertices`` ``(n, 3)`` float64 or
-    float32 (taken exactly), ``faces`` ``(m, 3)`` of any integer type,
-    counter-clockwise seen from outside. With ``snap`` (a grid step such as
-    ``'1/10000'``), every coordinate moves to the nearest multiple (the one
-    reported rounding). Degenerate faces are removed by edge flips, as the
-    command line does, then the mesh is validated: :class:`InvalidMesh`
-    names every defect (open edges, NaN coordinates, ...).
+    ``Mesh(vertices, faces, snap=None, drop_collapsed=False)``:
+    ``vertices`` ``(n, 3)`` float64 or float32 (taken exactly), ``faces``
+    ``(m, 3)`` of any integer type, counter-clockwise seen from outside.
+    With ``snap`` (a grid step such as ``'1/10000'``), every coordinate
+    moves to the nearest multiple (the one reported rounding). With
+    ``drop_collapsed``, faces that use one vertex twice (no area) are
+    removed instead of refused, as ``--drop-collapsed`` does (later faces
+    are renumbered; :attr:`dropped` lists them). Degenerate faces are
+    removed by edge flips, as the command line does, then the mesh is
+    validated: :class:`InvalidMesh` names every defect (open edges, NaN
+    coordinates, ...).
     """
 
     __slots__ = ("_m",)
 
-    def __init__(self, vertices, faces, snap=None):
-        self._m = _native.Mesh(vertices, faces, snap)
+    def __init__(self, vertices, faces, snap=None, drop_collapsed: bool = False):
+        self._m = _native.Mesh(vertices, faces, snap, drop_collapsed)
 
     @classmethod
     def _wrap(cls, native) -> "Mesh":
@@ -416,6 +420,10 @@ class Mesh:
     snap = property(lambda self: self._m.snap, doc="The snap grid as 'p/q', or None.")
     snap_report = property(lambda self: self._m.snap_report, doc="What snapping did, or None.")
     flips = property(lambda self: self._m.flips, doc="The edge flips that removed degenerate faces.")
+    dropped = property(
+        lambda self: self._m.dropped,
+        doc="The faces drop_collapsed removed (ids as given), or None when not asked for.",
+    )
     sha256 = property(lambda self: self._m.sha256, doc="SHA-256 of the mesh as sliced (the JSON header's).")
     z_range = property(lambda self: self._m.z_range, doc="Exact (z_min, z_max) as Fractions.")
 
@@ -463,16 +471,17 @@ class Mesh:
         return f"Mesh({self.num_vertices} vertices, {self.num_faces} faces{s})"
 
 
-def load(path, snap=None) -> Mesh:
+def load(path, snap=None, drop_collapsed: bool = False) -> Mesh:
     """Reads a mesh file (STL binary/ASCII, OBJ, OFF, PLY, 3MF: every format
-    the command line reads), snaps it to ``snap`` when given, removes
-    degenerate faces and validates it. ``OSError`` when the file cannot be
+    the command line reads), snaps it to ``snap`` when given, removes the
+    faces that use one vertex twice when ``drop_collapsed`` (see
+    :class:`Mesh`), removes degenerate faces and validates it. ``OSError`` when the file cannot be
     read, ``ValueError`` when it cannot be parsed, :class:`InvalidMesh` when
     it is not accepted. A 3MF vertex whose transformed position is not a
     double (an object a slicer placed on its bed) has no exact place
     without a grid: ``ValueError``; with ``snap`` it is snapped from its
     exact image."""
-    return Mesh._wrap(_native.load(path, snap))
+    return Mesh._wrap(_native.load(path, snap, drop_collapsed))
 
 
 def dataset(name: str, snap=None) -> Mesh:

@@ -71,9 +71,19 @@ pub struct Prepared {
 /// validation to name its defects; snapping refuses a non-finite
 /// coordinate itself.
 pub fn prepare(mesh: Mesh, q: Option<&Rat>) -> Result<Prepared, SnapError> {
+    prepare_with(mesh, q, CollapsedFaces::Refuse)
+}
+
+/// As [`prepare`], the faces that use one vertex twice removed after
+/// snapping when `collapsed` says so.
+pub fn prepare_with(
+    mesh: Mesh,
+    q: Option<&Rat>,
+    collapsed: CollapsedFaces,
+) -> Result<Prepared, SnapError> {
     match q {
-        None => Ok(repair(mesh, None, None, CollapsedFaces::Refuse)),
-        Some(q) => on_grid(mesh, &ExactPositions::default(), q, CollapsedFaces::Refuse),
+        None => Ok(repair(mesh, None, None, collapsed)),
+        Some(q) => on_grid(mesh, &ExactPositions::default(), q, collapsed),
     }
 }
 
