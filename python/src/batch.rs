@@ -12,6 +12,7 @@
 //! shard's verdict is passed on by its counts (every check is per level).
 
 use crate::errors::{load_error, slice_error, snap_error, InternalError};
+use crate::mesh::collapsed_of;
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -22,7 +23,7 @@ use wmslice::exact::rational::Rat;
 use wmslice::layers::{height_range, plan_levels, slice_levels_then, LayerPlan, SweepError};
 use wmslice::levelset::LevelSet;
 use wmslice::mesh::io::{load_bytes_exact, read_file, LoadError, MeshFormat};
-use wmslice::mesh::prepare::{prepare_exact, PrepareError, Prepared};
+use wmslice::mesh::prepare::{prepare_exact_with, CollapsedFaces, PrepareError, Prepared};
 use wmslice::output::atomic::AtomicFile;
 use wmslice::output::certificate::{
     sha256_hex, Certificate, CertificateError, InputPart, LevelPart, Numeric, Options, ResultPart,
@@ -115,9 +116,15 @@ struct Part {
     name: String,
     bytes: Vec<u8>,
     prepared: Prepared,
+    /// How many collapsed faces were removed, when asked for.
+    dropped: Option<usize>,
 }
 
-fn read_part(path: &Path, snap: Option<&Rat>) -> Result<Part, PartError> {
+fn read_part(
+    path: &Path,
+    snap: Option<&Rat>,
+    collapsed: CollapsedFaces,
+) -> Result<Part, PartError> {
     let name = path.display().to_string();
     let bytes = read_file(path).map_err(|source| {
         PartError::Load(
@@ -134,14 +141,16 @@ fn read_part(path: &Path, snap: Option<&Rat>) -> Result<Part, PartError> {
         .and_then(MeshFormat::from_extension);
     let (mesh, _, exact) =
         load_bytes_exact(&bytes, hint).map_err(|e| PartError::Load(name.clone(), e))?;
-    let prepared = prepare_exact(mesh, &exact, snap).map_err(|e| match e {
+    let prepared = prepare_exact_with(mesh, &exact, snap, collapsed).map_err(|e| match e {
         PrepareError::NotDoubles(e) => PartError::Load(name.clone(), e),
         PrepareError::Snap(e) => PartError::Snap(e),
     })?;
+    let dropped = (collapsed == CollapsedFaces::Drop).then_some(prepared.dropped.len());
     Ok(Part {
         name,
         bytes,
         prepared,
+        dropped,
     })
 }
 
@@ -298,13 +307,14 @@ fn run_part(
     out: &Path,
     certificate: Option<&Path>,
     snap: Option<&Rat>,
+    collapsed: CollapsedFaces,
     args: &PlanArgs,
     exact: bool,
     threads: usize,
     shard: Option<(usize, usize)>,
     max_levels: Option<usize>,
 ) -> Result<Result<Done, usize>, PartError> {
-    let part = read_part(path, snap)?;
+    let part = read_part(path, snap, collapsed)?;
     let levels = plan(&part, args)?;
     let all = levels.len();
     if shard.is_none() && max_levels.is_some_and(|m| all > m) {
@@ -321,7 +331,7 @@ fn run_part(
     let unit = unit_of(&part.prepared);
     let grid = part.prepared.unit.as_ref();
     let slicer = Slicer::with_unit(mesh, unit.clone()).map_err(PartError::Slice)?;
-    let header = MeshHeader::new(mesh, grid);
+    let header = MeshHeader::new(mesh, grid).with_dropped(part.dropped);
     let ex = exactness(exact);
     let out_name = out.display().to_string();
     let io = |e: std::io::Error| PartError::Io(out_name.clone(), e);
@@ -505,7 +515,8 @@ fn done_dict<'py>(py: Python<'py>, d: Done) -> PyResult<Bound<'py, PyDict>> {
 /// the caller to shard it. Returns what was written.
 #[pyfunction]
 #[pyo3(signature = (path, output, certificate=None, snap=None, layer_height=None, first=None,
-    last=None, levels=None, exact=false, threads=None, shard=None, max_levels=None))]
+    last=None, levels=None, exact=false, threads=None, shard=None, max_levels=None,
+    drop_collapsed=false))]
 #[allow(clippy::too_many_arguments)]
 pub fn slice_part<'py>(
     py: Python<'py>,
@@ -521,6 +532,7 @@ pub fn slice_part<'py>(
     threads: Option<usize>,
     shard: Option<(usize, usize)>,
     max_levels: Option<usize>,
+    drop_collapsed: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let q = opt_rat("snap grid", snap)?;
     let args = PlanArgs {
@@ -541,6 +553,7 @@ pub fn slice_part<'py>(
             &output,
             certificate.as_deref(),
             q.as_ref(),
+            collapsed_of(drop_collapsed),
             &args,
             exact,
             threads,
@@ -585,7 +598,9 @@ fn shard_texts(
 /// removed. The file is read again for the header and the certificate's
 /// input hash, and must be the one the shards sliced.
 #[pyfunction]
-#[pyo3(signature = (path, output, shards, certificate=None, snap=None, exact=false))]
+#[pyo3(signature = (path, output, shards, certificate=None, snap=None, exact=false,
+    drop_collapsed=false))]
+#[allow(clippy::too_many_arguments)]
 pub fn join_shards<'py>(
     py: Python<'py>,
     path: PathBuf,
@@ -594,6 +609,7 @@ pub fn join_shards<'py>(
     certificate: Option<PathBuf>,
     snap: Option<&Bound<'py, PyAny>>,
     exact: bool,
+    drop_collapsed: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let q = opt_rat("snap grid", snap)?;
     struct Shard {
@@ -620,9 +636,9 @@ pub fn join_shards<'py>(
         });
     }
     let r = py.detach(|| -> Result<Done, PartError> {
-        let part = read_part(&path, q.as_ref())?;
+        let part = read_part(&path, q.as_ref(), collapsed_of(drop_collapsed))?;
         let mesh = &part.prepared.mesh;
-        let header = MeshHeader::new(mesh, part.prepared.unit.as_ref());
+        let header = MeshHeader::new(mesh, part.prepared.unit.as_ref()).with_dropped(part.dropped);
         let input_sha256 = sha256_hex(&part.bytes);
         for s in &list {
             if s.mesh_sha256 != header.sha256 || s.input_sha256 != input_sha256 {

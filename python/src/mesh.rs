@@ -57,7 +57,7 @@ pub fn ready(
 }
 
 /// The mode `drop_collapsed=` asks for.
-fn collapsed_of(drop_collapsed: bool) -> CollapsedFaces {
+pub fn collapsed_of(drop_collapsed: bool) -> CollapsedFaces {
     if drop_collapsed {
         CollapsedFaces::Drop
     } else {

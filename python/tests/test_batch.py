@@ -82,3 +82,35 @@ def test_batch_errors(cli, scratch, parts):
         slice_files([str(bad)], scratch / "o", layer_height="0.1")
     # Nothing half-written.
     assert not any(p.name.startswith("open") for p in (scratch / "o").iterdir())
+
+
+def near_cube(scratch):
+    """The unit cube with vertex 0 copied a hair away and two slivers that
+    snapping to 1/1000000 collapses (as in test_mesh.py), as an OBJ file."""
+    v = [[x, y, z] for z in (0, 1) for y in (0, 1) for x in (0, 1)] + [[1e-9, 0.0, 2e-9]]
+    f = [[0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], [8, 1, 4], [1, 5, 4],
+         [2, 6, 3], [3, 6, 7], [0, 4, 2], [2, 4, 6], [1, 3, 5], [3, 7, 5], [0, 1, 8], [0, 8, 4]]
+    p = scratch / "in" / "near.obj"
+    p.parent.mkdir(exist_ok=True)
+    p.write_text("".join(f"v {x!r} {y!r} {z!r}\n" for x, y, z in v) + "".join(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in f))
+    return str(p)
+
+
+def test_batch_drops_collapsed_faces_as_the_command_line_does(cli, scratch):
+    path = near_cube(scratch)
+    flags = ("--snap", "1/1000000", "--drop-collapsed")
+    want, want_cert = expected(cli, path, scratch / "cli.json", scratch / "cli.cert.json", *flags)
+    assert json.loads(want)["mesh"]["dropped_collapsed"] == 2
+    with pytest.raises(wmslice.InvalidMesh, match="repeats a vertex"):
+        slice_files([path], scratch / "refused", layer_height="0.1", snap="1/1000000")
+    (r,) = slice_files([path], scratch / "out", layer_height="0.1", snap="1/1000000", drop_collapsed=True)
+    assert open(r["output"], "rb").read() == want
+    assert json.loads(open(r["certificate"]).read())["mesh"] == want_cert["mesh"]
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        with distributed.Client(cluster) as client:
+            (r,) = slice_files(
+                [path], scratch / "shards", layer_height="0.1", snap="1/1000000", drop_collapsed=True,
+                client=client, levels_per_task=3,
+            )
+            assert open(r["output"], "rb").read() == want
