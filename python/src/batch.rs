@@ -12,7 +12,6 @@
 //! shard's verdict is passed on by its counts (every check is per level).
 
 use crate::errors::{load_error, slice_error, snap_error, InternalError};
-use crate::mesh::collapsed_of;
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -116,8 +115,6 @@ struct Part {
     name: String,
     bytes: Vec<u8>,
     prepared: Prepared,
-    /// How many collapsed faces were removed, when asked for.
-    dropped: Option<usize>,
 }
 
 fn read_part(
@@ -145,12 +142,10 @@ fn read_part(
         PrepareError::NotDoubles(e) => PartError::Load(name.clone(), e),
         PrepareError::Snap(e) => PartError::Snap(e),
     })?;
-    let dropped = (collapsed == CollapsedFaces::Drop).then_some(prepared.dropped.len());
     Ok(Part {
         name,
         bytes,
         prepared,
-        dropped,
     })
 }
 
@@ -331,7 +326,8 @@ fn run_part(
     let unit = unit_of(&part.prepared);
     let grid = part.prepared.unit.as_ref();
     let slicer = Slicer::with_unit(mesh, unit.clone()).map_err(PartError::Slice)?;
-    let header = MeshHeader::new(mesh, grid).with_dropped(part.dropped);
+    let header =
+        MeshHeader::new(mesh, grid).with_dropped(part.prepared.dropped.as_ref().map(Vec::len));
     let ex = exactness(exact);
     let out_name = out.display().to_string();
     let io = |e: std::io::Error| PartError::Io(out_name.clone(), e);
@@ -553,7 +549,7 @@ pub fn slice_part<'py>(
             &output,
             certificate.as_deref(),
             q.as_ref(),
-            collapsed_of(drop_collapsed),
+            CollapsedFaces::dropping(drop_collapsed),
             &args,
             exact,
             threads,
@@ -636,9 +632,10 @@ pub fn join_shards<'py>(
         });
     }
     let r = py.detach(|| -> Result<Done, PartError> {
-        let part = read_part(&path, q.as_ref(), collapsed_of(drop_collapsed))?;
+        let part = read_part(&path, q.as_ref(), CollapsedFaces::dropping(drop_collapsed))?;
         let mesh = &part.prepared.mesh;
-        let header = MeshHeader::new(mesh, part.prepared.unit.as_ref()).with_dropped(part.dropped);
+        let header = MeshHeader::new(mesh, part.prepared.unit.as_ref())
+            .with_dropped(part.prepared.dropped.as_ref().map(Vec::len));
         let input_sha256 = sha256_hex(&part.bytes);
         for s in &list {
             if s.mesh_sha256 != header.sha256 || s.input_sha256 != input_sha256 {

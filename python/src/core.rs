@@ -60,8 +60,7 @@ impl MeshCore {
     /// the topology.
     pub fn new(mesh: Mesh, q: Option<&Rat>, collapsed: CollapsedFaces) -> Result<Self, CoreError> {
         let p = prepare_with(mesh, q, collapsed).map_err(CoreError::Snap)?;
-        let dropped = (collapsed == CollapsedFaces::Drop).then_some(p.dropped);
-        Self::prepared(p.mesh, p.unit, p.snap, p.flips, dropped)
+        Self::prepared(p.mesh, p.unit, p.snap, p.flips, p.dropped)
     }
 
     /// Validates a mesh already prepared (unpickling): `unit` is its grid.

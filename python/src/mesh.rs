@@ -56,15 +56,6 @@ pub fn ready(
     })
 }
 
-/// The mode `drop_collapsed=` asks for.
-pub fn collapsed_of(drop_collapsed: bool) -> CollapsedFaces {
-    if drop_collapsed {
-        CollapsedFaces::Drop
-    } else {
-        CollapsedFaces::Refuse
-    }
-}
-
 fn snap_of(snap: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Rat>> {
     snap.filter(|s| !s.is_none())
         .map(|s| exact("snap grid", s))
@@ -297,7 +288,7 @@ impl Mesh {
         let positions = positions(vertices)?;
         let faces = self::faces(faces, positions.len())?;
         let mesh = RawMesh::from_raw(positions, faces);
-        ready(py, mesh, q, collapsed_of(drop_collapsed))
+        ready(py, mesh, q, CollapsedFaces::dropping(drop_collapsed))
     }
 
     /// The faces `drop_collapsed` removed, by their ids as given; None
@@ -658,7 +649,7 @@ pub fn load(
     snap: Option<&Bound<'_, PyAny>>,
     drop_collapsed: bool,
 ) -> PyResult<Mesh> {
-    let collapsed = collapsed_of(drop_collapsed);
+    let collapsed = CollapsedFaces::dropping(drop_collapsed);
     let q = snap_of(snap)?;
     let shown = path.display().to_string();
     let (mesh, exact) = py
@@ -683,10 +674,7 @@ pub fn load(
             PrepareError::Snap(e) => snap_error(py, e),
         })?;
     let core = py
-        .detach(move || {
-            let dropped = (collapsed == CollapsedFaces::Drop).then_some(p.dropped);
-            MeshCore::prepared(p.mesh, p.unit, p.snap, p.flips, dropped)
-        })
+        .detach(move || MeshCore::prepared(p.mesh, p.unit, p.snap, p.flips, p.dropped))
         .map_err(|e| core_error(py, e))?;
     Ok(Mesh {
         core: Arc::new(core),

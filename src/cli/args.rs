@@ -264,10 +264,6 @@ pub struct CollapsedArg {
 impl CollapsedArg {
     /// The library's mode.
     pub fn mode(self) -> wmslice::mesh::prepare::CollapsedFaces {
-        if self.drop_collapsed {
-            wmslice::mesh::prepare::CollapsedFaces::Drop
-        } else {
-            wmslice::mesh::prepare::CollapsedFaces::Refuse
-        }
+        wmslice::mesh::prepare::CollapsedFaces::dropping(self.drop_collapsed)
     }
 }

@@ -148,7 +148,7 @@ pub fn load_input(
             "{collapsed} faces use one vertex twice, which validation refuses; --drop-collapsed removes them (they have no area)"
         ));
     }
-    let dropped = (collapsed_mode == CollapsedFaces::Drop).then_some(p.dropped);
+    let dropped = p.dropped;
     if let Some(d) = dropped.as_deref().filter(|d| !d.is_empty()) {
         notes.push(dropped_note(d));
     }

@@ -39,10 +39,7 @@ pub fn run(a: VerifyArgs) -> Result<(), Failure> {
     let snap = a.snap.clone().or(header.snap);
     // Collapsed faces are removed as the header says the slicer did; the
     // mesh hash then tells whether the same faces went.
-    let collapsed = match header.dropped_collapsed {
-        Some(_) => CollapsedFaces::Drop,
-        None => CollapsedFaces::Refuse,
-    };
+    let collapsed = CollapsedFaces::dropping(header.dropped_collapsed.is_some());
     let input = load_input(&a.mesh, snap.as_deref(), collapsed)?;
     let report = verify(&input.mesh, input.unit.as_ref(), &text).map_err(unreadable)?;
     if report.passed() {

@@ -48,6 +48,18 @@ pub enum CollapsedFaces {
     Drop,
 }
 
+impl CollapsedFaces {
+    /// [`CollapsedFaces::Drop`] when `drop` (a front end's flag), else
+    /// [`CollapsedFaces::Refuse`].
+    pub fn dropping(drop: bool) -> Self {
+        if drop {
+            CollapsedFaces::Drop
+        } else {
+            CollapsedFaces::Refuse
+        }
+    }
+}
+
 /// A mesh ready to slice.
 #[derive(Clone, Debug)]
 pub struct Prepared {
@@ -58,9 +70,10 @@ pub struct Prepared {
     pub unit: Option<Rat>,
     /// What snapping did, when snapped.
     pub snap: Option<SnapStats>,
-    /// The faces removed by [`CollapsedFaces::Drop`], by their ids as
-    /// read (or as snapped: snapping keeps the faces in order).
-    pub dropped: Vec<FaceId>,
+    /// With [`CollapsedFaces::Drop`], the faces it removed, by their ids
+    /// as read (snapping keeps the faces in order); `None` in the default
+    /// mode.
+    pub dropped: Option<Vec<FaceId>>,
     /// The edge flips that removed degenerate faces, in the order made.
     pub flips: Vec<Flip>,
 }
@@ -158,9 +171,8 @@ fn repair(
     snap: Option<SnapStats>,
     collapsed: CollapsedFaces,
 ) -> Prepared {
-    let mut dropped = Vec::new();
-    if collapsed == CollapsedFaces::Drop {
-        let mut id = 0;
+    let dropped = (collapsed == CollapsedFaces::Drop).then(|| {
+        let (mut dropped, mut id) = (Vec::new(), 0);
         mesh.faces.retain(|&f| {
             let keep = !is_collapsed(f);
             if !keep {
@@ -169,7 +181,8 @@ fn repair(
             id += 1;
             keep
         });
-    }
+        dropped
+    });
     let r = repair_degenerate(&mesh);
     let flips = r.flips;
     let repaired = match r.mesh {
