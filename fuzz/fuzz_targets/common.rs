@@ -1,11 +1,12 @@
 //! Input: fuzz bytes and a format. Output: nothing; panics on a bug. The
 //! same steps as `tests/io_fuzz_regressions.rs`: load (must not panic),
-//! snap what a 3MF transform leaves off the doubles,
-//! validate, and check the topology invariants of an accepted mesh.
+//! snap what a 3MF transform leaves off the doubles, as read and with
+//! collapsed faces removed: validate, and check the topology invariants of
+//! an accepted mesh.
 
 use wmslice::exact::rational::Rat;
 use wmslice::mesh::io::{load_bytes_exact, MeshFormat};
-use wmslice::mesh::prepare::prepare_exact;
+use wmslice::mesh::prepare::{prepare_exact_with, CollapsedFaces};
 use wmslice::mesh::topology::check_invariants;
 use wmslice::mesh::validate::validate;
 
@@ -17,15 +18,19 @@ pub fn check(data: &[u8], format: MeshFormat) {
     // by a grid (1/1024) from its exact image; without one, refused.
     let grid = Rat::new(1.into(), 1024.into());
     let q = (!exact.is_empty()).then_some(&grid);
-    let Ok(prepared) = prepare_exact(mesh, &exact, q) else {
-        return;
-    };
-    let mesh = prepared.mesh;
-    let report = validate(&mesh);
-    if report.is_accepted() {
-        if let Some(topo) = &report.topology {
-            if let Err(e) = check_invariants(&mesh, topo) {
-                panic!("accepted mesh breaks a topology invariant: {e}");
+    // As read, and with the faces that use one vertex twice removed
+    // (`--drop-collapsed`).
+    for mode in [CollapsedFaces::Refuse, CollapsedFaces::Drop] {
+        let Ok(prepared) = prepare_exact_with(mesh.clone(), &exact, q, mode) else {
+            return;
+        };
+        let mesh = prepared.mesh;
+        let report = validate(&mesh);
+        if report.is_accepted() {
+            if let Some(topo) = &report.topology {
+                if let Err(e) = check_invariants(&mesh, topo) {
+                    panic!("accepted mesh ({mode:?}) breaks a topology invariant: {e}");
+                }
             }
         }
     }
