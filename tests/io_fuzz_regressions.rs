@@ -1,42 +1,17 @@
 //! Input: byte strings that once crashed or stressed a loader (found by the
-//! `fuzz/` targets or written against a known weak spot). Output: the same
-//! check the fuzz targets run (load without panic; snap what a 3MF
+//! `fuzz/` targets or written against a known weak spot). Output: the
+//! check the parser fuzz targets run, their own code
+//! (`fuzz/fuzz_targets/common.rs`: load without panic; snap what a 3MF
 //! transform leaves off the doubles; as read and with collapsed faces
 //! removed, a mesh that validates passes the topology invariants), one
 //! named test per input.
 
-use wmslice::exact::rational::Rat;
-use wmslice::mesh::io::{load_bytes_exact, MeshFormat};
-use wmslice::mesh::prepare::{prepare_exact_with, CollapsedFaces};
-use wmslice::mesh::topology::check_invariants;
-use wmslice::mesh::validate::validate;
+use wmslice::mesh::io::MeshFormat;
 
-/// The fuzz targets' check (`fuzz/fuzz_targets/common.rs`).
-fn check(data: &[u8], format: MeshFormat) {
-    let Ok((mesh, _report, exact)) = load_bytes_exact(data, Some(format)) else {
-        return;
-    };
-    // A 3MF vertex whose transformed position is not a double is placed
-    // by a grid (1/1024) from its exact image; without one, refused.
-    let grid = Rat::new(1.into(), 1024.into());
-    let q = (!exact.is_empty()).then_some(&grid);
-    // As read, and with the faces that use one vertex twice removed
-    // (`--drop-collapsed`).
-    for mode in [CollapsedFaces::Refuse, CollapsedFaces::Drop] {
-        let Ok(prepared) = prepare_exact_with(mesh.clone(), &exact, q, mode) else {
-            return;
-        };
-        let mesh = prepared.mesh;
-        let report = validate(&mesh);
-        if report.is_accepted() {
-            if let Some(topo) = &report.topology {
-                if let Err(e) = check_invariants(&mesh, topo) {
-                    panic!("accepted mesh ({mode:?}) breaks a topology invariant: {e}");
-                }
-            }
-        }
-    }
-}
+/// The fuzz targets' check itself (`check(bytes, format)`).
+#[path = "../fuzz/fuzz_targets/common.rs"]
+mod fuzz_common;
+use fuzz_common::check;
 
 #[test]
 fn stress_stl_header_only_with_max_count() {

@@ -1,5 +1,6 @@
-//! Input: fuzz bytes and a format. Output: nothing; panics on a bug. The
-//! same steps as `tests/io_fuzz_regressions.rs`: load (must not panic),
+//! Input: fuzz bytes and a format. Output: nothing; panics on a bug
+//! (`tests/io_fuzz_regressions.rs` replays saved inputs through this same
+//! file): load (must not panic),
 //! snap what a 3MF transform leaves off the doubles, as read and with
 //! collapsed faces removed: validate, and check the topology invariants of
 //! an accepted mesh.
