@@ -417,24 +417,24 @@ fn off_text(mesh: &Mesh) -> String {
     text
 }
 
+/// `mesh` written as OFF ([`off_text`]) to `name` in a fresh directory:
+/// the directory (removed when dropped), the file's path and an output
+/// path beside it.
+fn off_in_tempdir(mesh: &Mesh, name: &str) -> (tempfile::TempDir, String, String) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = |n: &str| dir.path().join(n).to_str().unwrap().to_owned();
+    let (file, out) = (path(name), path("out.json"));
+    std::fs::write(&file, off_text(mesh)).unwrap();
+    (dir, file, out)
+}
+
 #[test]
 fn an_unrepairable_mesh_exits_3_naming_the_face_and_writes_nothing() {
     let (mut got, _) = cad_box_with_sliver();
     got.positions[8] = got.positions[0];
-    let dir = tempfile::tempdir().unwrap();
-    let file = dir.path().join("bad.off");
-    std::fs::write(&file, off_text(&got)).unwrap();
-    let out = dir.path().join("out.json");
-    let s = |p: &std::path::Path| p.to_str().unwrap().to_owned();
+    let (_dir, file, out) = off_in_tempdir(&got, "bad.off");
     let (code, _, err) = common::wmslice(&[
-        "slice",
-        &s(&file),
-        "--at",
-        "0.3",
-        "--format",
-        "json",
-        "-o",
-        &s(&out),
+        "slice", &file, "--at", "0.3", "--format", "json", "-o", &out,
     ]);
     assert_eq!(code, 3, "{err}");
     assert!(
@@ -443,8 +443,8 @@ fn an_unrepairable_mesh_exits_3_naming_the_face_and_writes_nothing() {
         ),
         "{err}"
     );
-    assert!(!out.exists());
-    let (code, said, _) = common::wmslice(&["check", &s(&file)]);
+    assert!(!std::path::Path::new(&out).exists());
+    let (code, said, _) = common::wmslice(&["check", &file]);
     assert_eq!(code, 3);
     assert!(said.contains("error: face f13 is degenerate"), "{said}");
 }
@@ -468,23 +468,11 @@ fn cad_box_with_near_vertex() -> (Mesh, Mesh) {
 fn faces_snapping_collapses_are_refused_with_the_snap_named() {
     let (got, _) = cad_box_with_near_vertex();
     assert!(validate(&got).is_accepted(), "{}", validate(&got));
-    let dir = tempfile::tempdir().unwrap();
-    let file = dir.path().join("near.off");
-    std::fs::write(&file, off_text(&got)).unwrap();
-    let out = dir.path().join("out.json");
-    let s = |p: &std::path::Path| p.to_str().unwrap().to_owned();
-    let (code, _, err) = common::wmslice(&[
-        "slice",
-        &s(&file),
-        "--snap",
-        "0.001",
-        "--at",
-        "0.3",
-        "-o",
-        &s(&out),
-    ]);
+    let (_dir, file, out) = off_in_tempdir(&got, "near.off");
+    let (code, _, err) =
+        common::wmslice(&["slice", &file, "--snap", "0.001", "--at", "0.3", "-o", &out]);
     assert_eq!(code, 3, "{err}");
-    assert!(!out.exists());
+    assert!(!std::path::Path::new(&out).exists());
     assert!(err.contains("1 vertices merged"), "{err}");
     assert!(
         err.contains("snapping put two corners of 2 faces on one grid point"),
@@ -495,7 +483,7 @@ fn faces_snapping_collapses_are_refused_with_the_snap_named() {
     // steps).
     assert!(err.contains("bbox       [0, 0, 0] .. [1, 1, 0.6]"), "{err}");
     // The same file on a grid fine enough keeps the vertices apart.
-    let (code, _, err) = common::wmslice(&["check", &s(&file), "--snap", "0.000001"]);
+    let (code, _, err) = common::wmslice(&["check", &file, "--snap", "0.000001"]);
     assert_eq!(code, 0, "{err}");
 }
 
@@ -535,14 +523,10 @@ fn faces_snapping_collapses_are_dropped_on_request_and_verified() {
     assert!(kept.dropped.is_none());
     assert!(!validate(&kept.mesh).is_accepted());
 
-    let dir = tempfile::tempdir().unwrap();
-    let file = dir.path().join("near.off");
-    std::fs::write(&file, off_text(&got)).unwrap();
-    let out = dir.path().join("out.json");
-    let s = |p: &std::path::Path| p.to_str().unwrap().to_owned();
+    let (dir, file, out) = off_in_tempdir(&got, "near.off");
     let (code, _, err) = common::wmslice(&[
         "slice",
-        &s(&file),
+        &file,
         "--snap",
         "0.001",
         "--drop-collapsed",
@@ -554,7 +538,7 @@ fn faces_snapping_collapses_are_dropped_on_request_and_verified() {
         "json",
         "--exact",
         "-o",
-        &s(&out),
+        &out,
     ]);
     assert_eq!(code, 0, "{err}");
     assert!(
@@ -568,11 +552,11 @@ fn faces_snapping_collapses_are_dropped_on_request_and_verified() {
         doc["mesh"]["sha256"].as_str().unwrap(),
         wmslice::output::json::mesh_sha256(&p.mesh)
     );
-    let (code, said, err) = common::wmslice(&["verify", &s(&file), &s(&out)]);
+    let (code, said, err) = common::wmslice(&["verify", &file, &out]);
     assert_eq!(code, 0, "{said}{err}");
     let bare = dir.path().join("bare.json");
     std::fs::write(&bare, text.replace(r#","dropped_collapsed":2"#, "")).unwrap();
-    let (code, _, err) = common::wmslice(&["verify", &s(&file), &s(&bare)]);
+    let (code, _, err) = common::wmslice(&["verify", &file, bare.to_str().unwrap()]);
     assert_eq!(code, 3, "{err}");
     assert!(err.contains("repeats a vertex"), "{err}");
 }
