@@ -157,14 +157,9 @@ impl DecimalDenominator {
     /// `Some` when `d > 0` has no prime factor but 2 and 5.
     fn of(d: &BigInt) -> Option<Self> {
         let twos = d.trailing_zeros()?;
-        let (mut odd, mut fives) = (d >> twos, 0);
-        let five = BigInt::from(5);
-        while !odd.is_one() {
-            let (q, r) = odd.div_rem(&five);
-            if !r.is_zero() {
-                return None;
-            }
-            (odd, fives) = (q, fives + 1);
+        let (rest, fives) = take_fives(d >> twos, u64::MAX);
+        if !rest.is_one() {
+            return None;
         }
         Some(DecimalDenominator {
             d: d.clone(),
@@ -179,18 +174,24 @@ impl DecimalDenominator {
             return Rat::zero();
         };
         let twos = tz.min(self.twos);
-        let mut n = n >> twos;
-        let five = BigInt::from(5);
-        let mut fives = 0;
-        while fives < self.fives {
-            let (q, r) = n.div_rem(&five);
-            if !r.is_zero() {
-                break;
-            }
-            (n, fives) = (q, fives + 1);
-        }
-        Rat::new_raw(n, (&self.d >> twos) / five.pow(fives as u32))
+        let (n, fives) = take_fives(n >> twos, self.fives);
+        Rat::new_raw(n, (&self.d >> twos) / BigInt::from(5).pow(fives as u32))
     }
+}
+
+/// `n` divided by five as often as it divides, at most `most` times, and
+/// how many times (`n != 0`).
+fn take_fives(mut n: BigInt, most: u64) -> (BigInt, u64) {
+    let five = BigInt::from(5);
+    let mut fives = 0;
+    while fives < most {
+        let (q, r) = n.div_rem(&five);
+        if !r.is_zero() {
+            break;
+        }
+        (n, fives) = (q, fives + 1);
+    }
+    (n, fives)
 }
 
 #[cfg(test)]
