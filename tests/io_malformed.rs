@@ -756,6 +756,75 @@ fn ply_header(format: &str, vertex_props: &str, nv: usize, face_prop: &str, nf: 
 /// so, draco keeps such a file) read as with `\n`: a binary file whose
 /// header ends its lines with `\r` (and whose payload holds `\r` bytes,
 /// which stay as they are), and an ASCII file with `\r` everywhere.
+/// Header lines indented by spaces and tabs (draco's
+/// `test_extra_whitespace.ply`; `ply-rs-bw` refuses a header line that
+/// does not start with its keyword) read as without: ASCII, and binary
+/// with `\r` line ends too, where the payload must not move.
+#[test]
+fn ply_with_indented_header_lines_reads_as_without() {
+    let indent = |b: &[u8]| -> Vec<u8> {
+        let text = String::from_utf8(b.to_vec()).unwrap();
+        let (head, body) = text.split_at(text.find("end_header").unwrap());
+        let head: String = head
+            .lines()
+            .enumerate()
+            .map(|(i, l)| match i {
+                0 => format!("{l}\n"),
+                _ => format!("{}{l}\n", [" ", "\t", " \t  "][i % 3]),
+            })
+            .collect();
+        format!("{head}\t{body}").into_bytes()
+    };
+    let mut ascii = ply_header(
+        "ascii",
+        "property double x\nproperty double y\nproperty double z\n",
+        4,
+        "property list uchar int vertex_indices",
+        2,
+    );
+    ascii.extend_from_slice(b"0 0 0\n1 0 0\n0 1 0\n0 0 0.1\n3 0 2 1\n3 0 1 3\n");
+    let (want, _) = load_bytes(&ascii, None).unwrap();
+    let indented = indent(&ascii);
+    assert!(indented.starts_with(b"ply\n\tformat ascii 1.0\n \t  comment"));
+    let (got, report) = load_bytes(&indented, None).unwrap();
+    assert_eq!(report.format, MeshFormat::PlyAscii);
+    assert_eq!(got.positions, want.positions);
+    assert_eq!(ids(&got), vec![[0, 2, 1], [0, 1, 3]]);
+
+    // Binary, header lines ended by a lone `\r` and indented; a payload
+    // that starts with a space and a tab (as the x of the first vertex)
+    // stays as it is.
+    let header = indent(&ply_header(
+        "binary_little_endian",
+        "property float x\nproperty float y\nproperty float z\n",
+        3,
+        "property list uchar int vertex_indices",
+        1,
+    ));
+    let header: Vec<u8> = header
+        .iter()
+        .map(|&c| if c == b'\n' { b'\r' } else { c })
+        .collect();
+    let odd = f32::from_le_bytes([b' ', b'\t', b' ', 0x3f]);
+    let mut payload = Vec::new();
+    for p in [[odd, 0.0, 0.0], [1.0, 0.1, 0.0], [0.0, 1.0, 13.0]] {
+        for c in p {
+            payload.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    payload.push(3);
+    for i in [0i32, 1, 2] {
+        payload.extend_from_slice(&i.to_le_bytes());
+    }
+    let mut file = header;
+    file.extend_from_slice(&payload);
+    let (got, report) = load_bytes(&file, None).unwrap();
+    assert_eq!(report.format, MeshFormat::PlyBinaryLittleEndian);
+    assert_eq!(got.positions[0][0], f64::from(odd));
+    assert_eq!(got.positions[2], [0.0, 1.0, 13.0]);
+    assert_eq!(ids(&got), vec![[0, 1, 2]]);
+}
+
 #[test]
 fn ply_with_carriage_return_line_ends_reads_as_with_newlines() {
     let cr = |b: &[u8]| -> Vec<u8> {

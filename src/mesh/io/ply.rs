@@ -270,8 +270,8 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
             message: "a PLY file starts with the line `ply`".to_owned(),
         });
     }
-    let with_newlines = classic_mac_line_ends(bytes);
-    let bytes = with_newlines.as_deref().unwrap_or(bytes);
+    let normalized = readable_header(bytes);
+    let bytes = normalized.as_deref().unwrap_or(bytes);
     let parser = Parser::<Element>::new();
     let mut reader = Reader::new(Cursor::new(bytes));
     let header = parser
@@ -366,27 +366,64 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
     Ok((mesh, LoadReport { format, notes }))
 }
 
-/// A copy of a file whose lines end in a lone `\r` (classic Mac OS line
-/// ends, as Rhino 6 writes PLY headers), with each of those `\r` made a
-/// `\n`: in the header of a binary file, everywhere in an ASCII one.
-/// `None` when the `ply` line ends otherwise. Byte for byte the same
-/// length, so the payload and the line numbers do not move.
-fn classic_mac_line_ends(bytes: &[u8]) -> Option<Vec<u8>> {
-    if !bytes.starts_with(b"ply\r") || bytes.get(4) == Some(&b'\n') {
+/// A copy of a file with what `ply-rs-bw` cannot read in a header made
+/// what it can, or `None` when nothing needs it. Byte for byte the same
+/// length, so the payload and the line numbers do not move:
+/// - lines ended by a lone `\r` (classic Mac OS line ends, as Rhino 6
+///   writes PLY headers) end in `\n`: in the header of a binary file,
+///   everywhere in an ASCII one;
+/// - a header line's leading spaces and tabs (draco reads such files) go
+///   to its end, where they are allowed.
+fn readable_header(bytes: &[u8]) -> Option<Vec<u8>> {
+    let lone_cr = bytes.starts_with(b"ply\r") && bytes.get(4) != Some(&b'\n');
+    let header_end = header_end(bytes);
+    let indented = bytes[..header_end]
+        .split(|&b| b == b'\n' || b == b'\r')
+        .any(|line| line.first().is_some_and(|&b| b == b' ' || b == b'\t'));
+    if !lone_cr && !indented {
         return None;
     }
-    let end = match encoding_hint(bytes) {
-        MeshFormat::PlyAscii => bytes.len(),
-        _ => {
-            const END: &[u8] = b"end_header\r";
-            bytes.windows(END.len()).position(|w| w == END)? + END.len()
-        }
-    };
     let mut out = bytes.to_vec();
-    for i in (0..end).filter(|&i| is_lone_cr(bytes, i)) {
-        out[i] = b'\n';
+    if lone_cr {
+        let end = match encoding_hint(bytes) {
+            MeshFormat::PlyAscii => bytes.len(),
+            _ => header_end,
+        };
+        for i in (0..end).filter(|&i| is_lone_cr(bytes, i)) {
+            out[i] = b'\n';
+        }
+    }
+    let mut start = 0;
+    while start < header_end {
+        let len = out[start..header_end]
+            .iter()
+            .position(|&b| b == b'\n' || b == b'\r')
+            .unwrap_or(header_end - start);
+        let line = &mut out[start..start + len];
+        let indent = line
+            .iter()
+            .take_while(|&&b| b == b' ' || b == b'\t')
+            .count();
+        line.rotate_left(indent);
+        start += len + 1;
     }
     Some(out)
+}
+
+/// Where the header ends: just past the line that holds `end_header`
+/// (the whole file when there is none, for the parser to name).
+fn header_end(bytes: &[u8]) -> usize {
+    const END: &[u8] = b"end_header";
+    match bytes.windows(END.len()).position(|w| w == END) {
+        None => bytes.len(),
+        Some(at) => {
+            let after = at + END.len();
+            bytes[after..]
+                .iter()
+                .position(|&b| b == b'\n' || b == b'\r')
+                .map_or(bytes.len(), |n| after + n + 1)
+        }
+    }
 }
 
 fn negative_index(format: MeshFormat, v: i64) -> LoadError {
