@@ -127,8 +127,9 @@ fn index_i128(x: f64, (a, b): (i128, i128)) -> Option<(i128, i128, i128)> {
 /// A grid index as the double that holds it exactly; `None` beyond 2^53
 /// steps, where a double cannot (refused by name, not a tolerance).
 fn grid_index(n: Option<i64>) -> Option<f64> {
-    // |n| <= 2^53: exact as a double; +0.0 for zero.
-    n.filter(|n| n.abs() <= MAX_GRID_INDEX)
+    // |n| <= 2^53: exact as a double; +0.0 for zero. `unsigned_abs`: the
+    // absolute value of `i64::MIN` (a vertex at -2^63 steps) overflows.
+    n.filter(|n| n.unsigned_abs() <= MAX_GRID_INDEX.unsigned_abs())
         .map(|n| n as f64 + 0.0)
 }
 
@@ -320,7 +321,7 @@ mod tests {
                     let mut o = [0i64; 3];
                     for k in 0..3 {
                         let (n, delta) = index_rational(p[k], &q);
-                        o[k] = n.to_i64().filter(|n| n.abs() <= MAX_GRID_INDEX)?;
+                        o[k] = n.to_i64().filter(|n| n.unsigned_abs() <= MAX_GRID_INDEX.unsigned_abs())?;
                         largest = largest.max(delta);
                     }
                     out.push(o);
@@ -423,5 +424,29 @@ mod tests {
             snap(&m, &parse_rational("1").unwrap()),
             Err(SnapError::OutOfRange { .. })
         ));
+    }
+
+    /// The bound is 2^53 steps either way, `i64::MIN` steps included (its
+    /// absolute value overflows `i64`: the `adversarial` fuzz target
+    /// found a debug build panicking there, and a release build accepted
+    /// the vertex). Found by the fuzz target with a mesh scaled by 2^k.
+    #[test]
+    fn grid_indices_beyond_two_to_the_53_are_refused_at_either_sign() {
+        let one = parse_rational("1").unwrap();
+        for (x, fits) in [
+            (-(2f64.powi(53)), true),
+            (2f64.powi(53), true),
+            (-(2f64.powi(53)) - 2.0, false),
+            (2f64.powi(53) + 2.0, false),
+            (-(2f64.powi(63)), false),
+            (2f64.powi(63), false),
+        ] {
+            let m = Mesh::from_raw(vec![[x, 0.0, 0.0]], vec![]);
+            let got = snap(&m, &one);
+            assert_eq!(got.is_ok(), fits, "{x}: {got:?}");
+            if !fits {
+                assert!(matches!(got, Err(SnapError::OutOfRange { .. })), "{x}");
+            }
+        }
     }
 }
