@@ -2,7 +2,10 @@
 //! adversarial as real files are: slivers (a vertex on an edge, its zero
 //! area face in or out of a slicing plane), a second copy of the body
 //! overlapping, touching or apart, coordinates rounded to `f32`, and the
-//! whole mesh scaled by `2^k` for `k` across the double range.
+//! whole mesh scaled by `2^k` for `k` across the double range, or snapped
+//! to a coarse grid (which collapses faces and folds slivers); prepared as
+//! the CLI prepares a mesh, in either mode for collapsed faces (refused,
+//! or dropped as `--drop-collapsed` does).
 //! Output: nothing; panics on a bug. The mesh must be refused by name
 //! (degenerate faces repaired first, as the CLI does), or sliced at every
 //! vertex height and between with every invariant of SPEC section 7
@@ -13,14 +16,14 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use std::borrow::Cow;
 use wmslice::critical::{analyze, brute_force};
 use wmslice::datasets::slab::{heights_and_midpoints, Slab};
 use wmslice::exact::predicates::is_degenerate_triangle;
+use wmslice::exact::rational::Rat;
 use wmslice::ids::VertexId;
 use wmslice::levelset::check::check_level_invariants;
 use wmslice::levelset::SliceError;
-use wmslice::mesh::flip::repair_degenerate;
+use wmslice::mesh::prepare::{prepare_with, CollapsedFaces};
 use wmslice::Mesh;
 
 /// Replaces face `f = (a, b, c)` by `(a, m, c)`, `(m, b, c)` and the sliver
@@ -64,11 +67,21 @@ fn add_copy(mesh: &mut Mesh, shift: [f64; 3]) {
     mesh.faces.extend(faces);
 }
 
-fn adversarial(data: &[u8]) -> Mesh {
+/// The adversarial mesh, the snap grid when one was asked for, and the
+/// mode for faces that repeat a vertex.
+fn adversarial(data: &[u8]) -> (Mesh, Option<Rat>, CollapsedFaces) {
     let (slab, rest) = Slab::split_bytes(data);
     let mut mesh = slab.mesh();
+    let mut snap = None;
     let mut ops = rest.chunks_exact(3);
     for op in ops.by_ref().take(6) {
+        if op[0] >= 240 {
+            // A grid of 1/64 to 3 units (the slab's steps are whole
+            // units): corners merge, faces collapse, slivers fold.
+            let step = Rat::new((1 + op[1] % 3).into(), (1u32 << (op[2] % 7)).into());
+            snap = Some(step);
+            continue;
+        }
         match op[0] % 4 {
             0 => {
                 let f = usize::from(op[1]) % mesh.num_faces();
@@ -94,13 +107,19 @@ fn adversarial(data: &[u8]) -> Mesh {
             }
         }
     }
-    mesh
+    let collapsed = CollapsedFaces::dropping(rest.len() % 2 == 1);
+    (mesh, snap, collapsed)
 }
 
 fuzz_target!(|data: &[u8]| {
-    let mesh = adversarial(data);
-    let repaired = repair_degenerate(&mesh);
-    let mesh: Cow<'_, Mesh> = repaired.mesh;
+    let (mesh, snap, collapsed) = adversarial(data);
+    // Snapped, the collapsed faces dropped or kept, degenerate faces
+    // flipped away: as the CLI prepares a mesh. A grid the coordinates
+    // are too far out for is refused by name (a typed error).
+    let Ok(prepared) = prepare_with(mesh, snap.as_ref(), collapsed) else {
+        return;
+    };
+    let mesh = prepared.mesh;
     let slicer = match wmslice::Slicer::new(&mesh) {
         Ok(s) => s,
         Err(SliceError::InvalidMesh(report)) => {
