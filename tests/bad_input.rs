@@ -476,6 +476,25 @@ fn usage_and_output_errors_have_their_codes_and_leave_no_file() {
     ]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("'zero' is not a number"), "{err}");
+    // A layer height whose first plane (z_min + H/2) is above the mesh's
+    // top: 2, and the message says so (the unit cube spans z 0 to 1).
+    let out = dir.path().join("thin.json");
+    let (code, _, err) = wmslice(&[
+        "slice",
+        "unit_cube",
+        "--layer-height",
+        "3",
+        "--format",
+        "json",
+        "-o",
+        s(&out),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("first plane of the layer height 3 is z = 3/2 (~1.5), above the last bound z = 1 (the mesh spans z 0 to 1)"),
+        "{err}"
+    );
+    assert!(!out.exists());
     // An output under a regular file: 5.
     let blocker = dir.path().join("file");
     std::fs::write(&blocker, b"x").unwrap();

@@ -8,7 +8,7 @@
 //! is the highest `Z0 + k H` not above `z_max`.
 
 use crate::exact::point::gcd_u128;
-use crate::exact::rational::{rat_from_f64, rat_to_string, Rat};
+use crate::exact::rational::{rat_from_f64, rat_to_f64, rat_to_string, Rat};
 use crate::mesh::Mesh;
 use num_bigint::BigInt;
 use num_integer::Integer;
@@ -40,6 +40,34 @@ pub enum PlanError {
     /// Nothing to slice.
     #[error("no levels: give --at Z, --levels-file FILE or --layer-height H")]
     Empty,
+    /// Uniform layers were asked for, and none lies in their range (a part
+    /// thinner than half a layer, or a mesh snapping flattened), and no
+    /// explicit level either. The heights are exact, with their nearest
+    /// doubles.
+    #[error(
+        "no levels: the first plane of the layer height {height} is z = {first}, above the last bound z = {last} (the mesh spans z {lo} to {hi}): choose a smaller layer height, or give the planes (--first, --at, --levels-file)"
+    )]
+    NoPlaneInRange {
+        /// The layer height.
+        height: String,
+        /// The first plane `Z0`.
+        first: String,
+        /// The last bound `Z1`.
+        last: String,
+        /// The mesh's lowest height.
+        lo: String,
+        /// The mesh's highest height.
+        hi: String,
+    },
+}
+
+/// An exact height for a message: `p/q (~nearest double)`, or the integer.
+fn shown(r: &Rat) -> String {
+    if r.is_integer() {
+        rat_to_string(r)
+    } else {
+        format!("{} (~{})", rat_to_string(r), rat_to_f64(r))
+    }
 }
 
 /// The exact height range of a mesh's stored vertices (used or not) in true
@@ -61,6 +89,7 @@ pub fn plan_levels(
     z_range: (&Rat, &Rat),
 ) -> Result<Vec<Rat>, PlanError> {
     let mut levels: Vec<Rat> = explicit.to_vec();
+    let mut empty_range = None;
     if let Some(p) = uniform {
         if !p.height.is_positive() {
             return Err(PlanError::NonPositiveHeight(rat_to_string(&p.height)));
@@ -82,6 +111,14 @@ pub fn plan_levels(
             if !uniform_in_i128(&first, &p.height, n, &mut levels) {
                 uniform_big(&first, &p.height, n, &mut levels);
             }
+        } else {
+            empty_range = Some(PlanError::NoPlaneInRange {
+                height: shown(&p.height),
+                first: shown(&first),
+                last: shown(&last),
+                lo: shown(z_range.0),
+                hi: shown(z_range.1),
+            });
         }
     }
     // Uniform levels alone are ascending and distinct already.
@@ -90,7 +127,7 @@ pub fn plan_levels(
         levels.dedup();
     }
     if levels.is_empty() {
-        return Err(PlanError::Empty);
+        return Err(empty_range.unwrap_or(PlanError::Empty));
     }
     Ok(levels)
 }
@@ -308,6 +345,30 @@ mod tests {
         assert_eq!(
             plan_levels(None, &[], (&r("0"), &r("1"))),
             Err(PlanError::Empty)
+        );
+        // A plate 0.1 thick under layers of 0.3: the first plane, 0.15
+        // above its bottom, is above its top.
+        let thick = LayerPlan {
+            height: r("0.3"),
+            first: None,
+            last: None,
+        };
+        let err = plan_levels(Some(&thick), &[], (&r("2"), &r("2.1"))).unwrap_err();
+        assert_eq!(
+            err,
+            PlanError::NoPlaneInRange {
+                height: "3/10 (~0.3)".into(),
+                first: "43/20 (~2.15)".into(),
+                last: "21/10 (~2.1)".into(),
+                lo: "2".into(),
+                hi: "21/10 (~2.1)".into(),
+            }
+        );
+        assert!(err.to_string().contains("choose a smaller layer height"));
+        // An explicit level alone is a plan.
+        assert_eq!(
+            plan_levels(Some(&thick), &[r("2.05")], (&r("2"), &r("2.1"))),
+            Ok(vec![r("2.05")])
         );
     }
 }
