@@ -743,6 +743,44 @@ fn binary_off_negative_index_is_refused() {
     );
 }
 
+/// A Git LFS pointer in place of a mesh (a repository cloned without
+/// `git lfs`; meshio's test meshes are such) is named as one whatever the
+/// extension says, with the size it points to, where the readers said
+/// "expected `solid`" or read an OBJ without faces. A binary STL whose
+/// 80-byte header happens to start with the pointer's line is an STL.
+#[test]
+fn a_git_lfs_pointer_is_named_as_one() {
+    let pointer = b"version https://git-lfs.github.com/spec/v1\n\
+        oid sha256:863bb0ad077f2af5c05e70338b9a2643c840208d26984141c731e95b7bcc1b6a\n\
+        size 76928\n";
+    let hints = [
+        None,
+        Some(MeshFormat::StlBinary),
+        Some(MeshFormat::StlAscii),
+        Some(MeshFormat::Obj),
+        Some(MeshFormat::Off),
+        Some(MeshFormat::PlyAscii),
+        Some(MeshFormat::ThreeMf),
+    ];
+    for hint in hints {
+        match load_bytes(pointer, hint) {
+            Err(LoadError::GitLfsPointer { size }) => assert_eq!(size, Some(76928), "{hint:?}"),
+            other => panic!("{hint:?}: {other:?}"),
+        }
+    }
+    let err = load_bytes(&pointer[..44], Some(MeshFormat::Obj)).unwrap_err();
+    assert!(
+        matches!(err, LoadError::GitLfsPointer { size: None }),
+        "{err:?}"
+    );
+    assert!(err.to_string().contains("git lfs pull"), "{err}");
+
+    let stl = binary_stl(&pointer[..80], &TWO_TRIANGLES);
+    let (mesh, report) = load_bytes(&stl, None).unwrap();
+    assert_eq!(report.format, MeshFormat::StlBinary);
+    assert_eq!(mesh.faces.len(), 2);
+}
+
 // ---------------------------------------------------------------- PLY
 
 fn ply_header(format: &str, vertex_props: &str, nv: usize, face_prop: &str, nf: usize) -> Vec<u8> {

@@ -63,6 +63,13 @@ pub enum LoadError {
         #[source]
         source: io::Error,
     },
+    /// The file is a Git LFS pointer (a repository cloned without `git
+    /// lfs`), not a mesh in any format.
+    #[error("the file is a Git LFS pointer{}, not the mesh: fetch the content (`git lfs pull` in its repository)", match size { Some(n) => format!(" to a file of {n} bytes"), None => String::new() })]
+    GitLfsPointer {
+        /// The size of the file it stands for, as the pointer says.
+        size: Option<u64>,
+    },
     /// Neither the extension nor the content names a supported format.
     #[error("unknown mesh format{}", match extension { Some(e) => format!(" (extension `.{e}`)"), None => String::new() })]
     UnknownFormat {

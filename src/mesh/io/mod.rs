@@ -382,6 +382,9 @@ pub fn load_bytes_exact(
     hint: Option<MeshFormat>,
 ) -> Result<(Mesh, LoadReport, ExactPositions), LoadError> {
     let bytes = without_utf8_bom(bytes);
+    if let Some(e) = git_lfs_pointer(bytes) {
+        return Err(e);
+    }
     let format = match hint {
         Some(f) => f,
         None => detect_format(bytes).ok_or(LoadError::UnknownFormat { extension: None })?,
@@ -448,6 +451,22 @@ fn utf16_text(format: MeshFormat, bytes: &[u8]) -> Option<LoadError> {
         message: "the file is UTF-16 text (it starts with a UTF-16 byte-order mark): \
                   save it as UTF-8 or ASCII"
             .to_owned(),
+    })
+}
+
+/// A Git LFS pointer file in place of the mesh (a repository cloned
+/// without `git lfs`): named as such, where the readers would report its
+/// first word as malformed or read it as an OBJ without faces. Only a
+/// file that starts with the pointer's first line and is short (a pointer
+/// is about 130 bytes), and never one of a binary STL's exact size.
+fn git_lfs_pointer(bytes: &[u8]) -> Option<LoadError> {
+    const FIRST_LINE: &[u8] = b"version https://git-lfs.github.com/spec/v1";
+    let pointer =
+        bytes.starts_with(FIRST_LINE) && bytes.len() <= 1024 && !stl::binary_size_matches(bytes);
+    pointer.then(|| LoadError::GitLfsPointer {
+        size: text::Lines::new(bytes)
+            .find_map(|(_, line)| line.strip_prefix(b"size "))
+            .and_then(|n| std::str::from_utf8(n).ok()?.trim().parse().ok()),
     })
 }
 
