@@ -863,6 +863,82 @@ fn ply_with_indented_header_lines_reads_as_without() {
     assert_eq!(ids(&got), vec![[0, 1, 2]]);
 }
 
+/// A header line with no PLY keyword before the first element (Blender
+/// 2.4's exporter wrote `Created by Blender3D 247 - ...` after `format`;
+/// assimp keeps such a file) is read as a comment, with a note naming it,
+/// in ASCII and binary files; after the first element such a line still
+/// fails (a misspelt `property` would move every number).
+#[test]
+fn ply_header_line_without_a_keyword_before_the_elements_is_a_comment() {
+    let blender = |b: &[u8]| -> Vec<u8> {
+        let text = String::from_utf8_lossy(b).into_owned();
+        let at = text.find("comment test").unwrap();
+        let mut out = b[..at].to_vec();
+        out.extend_from_slice(b"Created by Blender3D 247 - www.blender.org, source file: \n");
+        out.extend_from_slice(&b[at..]);
+        out
+    };
+    let mut ascii = ply_header(
+        "ascii",
+        "property double x\nproperty double y\nproperty double z\n",
+        4,
+        "property list uchar int vertex_indices",
+        2,
+    );
+    ascii.extend_from_slice(b"0 0 0\n1 0 0\n0 1 0\n0 0 0.1\n3 0 2 1\n3 0 1 3\n");
+    let (want, _) = load_bytes(&ascii, None).unwrap();
+    let (got, report) = load_bytes(&blender(&ascii), None).unwrap();
+    assert_eq!(got.positions, want.positions);
+    assert_eq!(ids(&got), vec![[0, 2, 1], [0, 1, 3]]);
+    let notes: Vec<String> = report.notes.iter().map(|n| n.to_string()).collect();
+    assert!(
+        notes
+            .iter()
+            .any(|n| n.contains("1 header line without a PLY keyword")
+                && n.contains(
+                    "on line 3: `Created by Blender3D 247 - www.blender.org, source file:`"
+                )),
+        "{notes:?}"
+    );
+    // A line number of an error is the file's own: the second face of the
+    // Blender file is on line 17 (11 header lines, 4 vertices, a face).
+    let mut broken = blender(&ascii);
+    let at = broken.len() - 2;
+    broken[at] = b'x';
+    match load_bytes(&broken, None).unwrap_err() {
+        LoadError::Parse { line, .. } => assert_eq!(line, Some(17)),
+        e => panic!("{e:?}"),
+    }
+
+    let mut binary = ply_header(
+        "binary_little_endian",
+        "property float x\nproperty float y\nproperty float z\n",
+        3,
+        "property list uchar int vertex_indices",
+        1,
+    );
+    for c in [0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.5] {
+        binary.extend_from_slice(&c.to_le_bytes());
+    }
+    binary.push(3);
+    for i in [0i32, 1, 2] {
+        binary.extend_from_slice(&i.to_le_bytes());
+    }
+    let (want, _) = load_bytes(&binary, None).unwrap();
+    let (got, report) = load_bytes(&blender(&binary), None).unwrap();
+    assert_eq!(report.format, MeshFormat::PlyBinaryLittleEndian);
+    assert_eq!(got.positions, want.positions);
+    assert_eq!(ids(&got), vec![[0, 1, 2]]);
+
+    // After the first element: still an error.
+    let text = String::from_utf8(ascii.clone()).unwrap();
+    let late = text.replacen("property double y\n", "propery double y\n", 1);
+    assert!(matches!(
+        load_bytes(late.as_bytes(), None).unwrap_err(),
+        LoadError::Parse { .. }
+    ));
+}
+
 #[test]
 fn ply_with_carriage_return_line_ends_reads_as_with_newlines() {
     let cr = |b: &[u8]| -> Vec<u8> {
@@ -1058,13 +1134,14 @@ fn ply_parse_message(bytes: &[u8], line: usize) -> String {
     }
 }
 
-/// A header line without a keyword (as an old Blender wrote it): the
-/// line is quoted and the keywords a header line may start with listed.
+/// A header line without a keyword after the first element (before it,
+/// as an old Blender wrote one, it is a comment): the line is quoted and
+/// the keywords a header line may start with listed.
 #[test]
 fn ply_header_line_without_keyword_is_named_with_the_keywords_expected() {
     let b =
-        b"ply\nformat ascii 1.0\nCreated by hand, source file: \nelement vertex 0\nend_header\n";
-    let m = ply_parse_message(b, 3);
+        b"ply\nformat ascii 1.0\nelement vertex 0\nCreated by hand, source file: \nend_header\n";
+    let m = ply_parse_message(b, 4);
     assert!(m.contains("`Created by hand, source file:`"), "{m}");
     assert!(
         m.contains("at column 1, expected one of comment, element, end_header, format, obj_info, ply, property"),

@@ -7,6 +7,11 @@
 //! dropped); and the PLY writer (doubles, `uint` indices).
 //! Both through `ply-rs-bw`.
 //!
+//! What real exporters write that `ply-rs-bw` refuses is made readable
+//! first (`readable_header`, `keywordless_as_comments`): lone `\r` line
+//! ends, indented header lines, and header lines without a keyword before
+//! the first element (old Blender), the last with a note.
+//!
 //! Before the payload is parsed, the element counts are checked against the
 //! bytes that follow (each element takes at least its binary size, or two
 //! bytes per property in ASCII), so a lying header fails before allocating.
@@ -272,6 +277,11 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
     }
     let normalized = readable_header(bytes);
     let bytes = normalized.as_deref().unwrap_or(bytes);
+    let commented = keywordless_as_comments(bytes);
+    let (bytes, header_note) = match commented {
+        Some((ref b, ref note)) => (b.as_slice(), Some(note.clone())),
+        None => (bytes, None),
+    };
     let parser = Parser::<Element>::new();
     let mut reader = Reader::new(Cursor::new(bytes));
     let header = parser
@@ -345,6 +355,7 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
     }
 
     let mut notes: Vec<LoadNote> = Vec::new();
+    notes.extend(header_note);
     notes.extend(sink.note());
     notes.extend(strips.note());
     for (name, count) in ignored {
@@ -408,6 +419,70 @@ fn readable_header(bytes: &[u8]) -> Option<Vec<u8>> {
         start += len + 1;
     }
     Some(out)
+}
+
+/// The keywords that start a PLY header line.
+const KEYWORDS: [&[u8]; 7] = [
+    b"ply",
+    b"format",
+    b"comment",
+    b"obj_info",
+    b"element",
+    b"property",
+    b"end_header",
+];
+
+/// A copy of a file whose header lines before the first `element` that
+/// start with no PLY keyword are made comments, with a note; `None` when
+/// there is none. Blender 2.4's exporter wrote `Created by Blender3D 247 -
+/// www.blender.org, source file: ...` after the `format` line, which
+/// `ply-rs-bw` refuses. Before the first element no line describes the
+/// data, so reading such a line as a comment cannot change what is read
+/// (a misspelt `element` there leaves its properties without an element,
+/// an error still); after it, a line without a keyword stays an error: a
+/// misspelt `property` would move every number. No line is added, so the
+/// line numbers of errors do not move.
+fn keywordless_as_comments(bytes: &[u8]) -> Option<(Vec<u8>, LoadNote)> {
+    let header = &bytes[..header_end(bytes)];
+    let mut starts = Vec::new();
+    let mut first = None;
+    let mut at = 0;
+    for (i, line) in header.split_inclusive(|&b| b == b'\n').enumerate() {
+        let word = line
+            .split(|b| b.is_ascii_whitespace())
+            .find(|w| !w.is_empty())
+            .unwrap_or_default();
+        if word == b"element" {
+            break;
+        }
+        if i > 0 && !word.is_empty() && !KEYWORDS.contains(&word) {
+            starts.push(at);
+            first.get_or_insert_with(|| {
+                (
+                    i + 1,
+                    String::from_utf8_lossy(line.trim_ascii()).into_owned(),
+                )
+            });
+        }
+        at += line.len();
+    }
+    let (line, text) = first?;
+    let mut out = Vec::with_capacity(bytes.len() + 8 * starts.len());
+    let mut from = 0;
+    for start in &starts {
+        out.extend_from_slice(&bytes[from..*start]);
+        out.extend_from_slice(b"comment ");
+        from = *start;
+    }
+    out.extend_from_slice(&bytes[from..]);
+    let lines = if starts.len() == 1 { "line" } else { "lines" };
+    let note = LoadNote::Ignored {
+        kind: format!(
+            "header {lines} without a PLY keyword before the first element, read as comments (the first, on line {line}: `{text}`)"
+        ),
+        count: starts.len(),
+    };
+    Some((out, note))
 }
 
 /// Where the header ends: just past the line that holds `end_header`
