@@ -475,10 +475,13 @@ fn keywordless_as_comments(bytes: &[u8]) -> Option<(Vec<u8>, LoadNote)> {
         from = *start;
     }
     out.extend_from_slice(&bytes[from..]);
-    let lines = if starts.len() == 1 { "line" } else { "lines" };
+    let (lines, comments) = match starts.len() {
+        1 => ("line", "a comment"),
+        _ => ("lines", "comments"),
+    };
     let note = LoadNote::Ignored {
         kind: format!(
-            "header {lines} without a PLY keyword before the first element, read as comments (the first, on line {line}: `{text}`)"
+            "header {lines} without a PLY keyword before the first element, read as {comments} (the first, on line {line}: `{text}`)"
         ),
         count: starts.len(),
     };
