@@ -426,10 +426,10 @@ mod tests {
         ));
     }
 
-    /// The bound is 2^53 steps either way, `i64::MIN` steps included (its
-    /// absolute value overflows `i64`: the `adversarial` fuzz target
-    /// found a debug build panicking there, and a release build accepted
-    /// the vertex). Found by the fuzz target with a mesh scaled by 2^k.
+    /// The bound is 2^53 steps either way, `i64::MIN` steps included: its
+    /// absolute value overflows `i64`, and the `adversarial` fuzz target
+    /// (a mesh scaled by 2^k, then snapped) found a debug build panicking
+    /// there and a release build accepting the vertex.
     #[test]
     fn grid_indices_beyond_two_to_the_53_are_refused_at_either_sign() {
         let one = parse_rational("1").unwrap();
