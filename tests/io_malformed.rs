@@ -790,10 +790,50 @@ fn ply_header(format: &str, vertex_props: &str, nv: usize, face_prop: &str, nf: 
     .into_bytes()
 }
 
-/// Lines ended by a lone `\r` (classic Mac OS; Rhino 6 writes PLY headers
-/// so, draco keeps such a file) read as with `\n`: a binary file whose
-/// header ends its lines with `\r` (and whose payload holds `\r` bytes,
-/// which stay as they are), and an ASCII file with `\r` everywhere.
+/// An ASCII PLY of four vertices and the faces (0 2 1) and (0 1 3), for
+/// the header tests to edit.
+fn ply_ascii_two_faces() -> Vec<u8> {
+    let mut b = ply_header(
+        "ascii",
+        "property double x\nproperty double y\nproperty double z\n",
+        4,
+        "property list uchar int vertex_indices",
+        2,
+    );
+    b.extend_from_slice(b"0 0 0\n1 0 0\n0 1 0\n0 0 0.1\n3 0 2 1\n3 0 1 3\n");
+    b
+}
+
+/// A binary little-endian PLY of one triangle, as its header and its
+/// payload; the first vertex's x is `x0` (whose bytes may look like text).
+fn ply_binary_triangle(x0: f32) -> (Vec<u8>, Vec<u8>) {
+    let header = ply_header(
+        "binary_little_endian",
+        "property float x\nproperty float y\nproperty float z\n",
+        3,
+        "property list uchar int vertex_indices",
+        1,
+    );
+    let mut payload = Vec::new();
+    for p in [[x0, 0.0, 0.0], [1.0, 0.1, 0.0], [0.0, 1.0, 13.0]] {
+        for c in p {
+            payload.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    payload.push(3);
+    for i in [0i32, 1, 2] {
+        payload.extend_from_slice(&i.to_le_bytes());
+    }
+    (header, payload)
+}
+
+/// The bytes with every `\n` made a lone `\r`.
+fn lone_cr(b: &[u8]) -> Vec<u8> {
+    b.iter()
+        .map(|&c| if c == b'\n' { b'\r' } else { c })
+        .collect()
+}
+
 /// Header lines indented by spaces and tabs (draco's
 /// `test_extra_whitespace.ply`; `ply-rs-bw` refuses a header line that
 /// does not start with its keyword) read as without: ASCII, and binary
@@ -813,14 +853,7 @@ fn ply_with_indented_header_lines_reads_as_without() {
             .collect();
         format!("{head}\t{body}").into_bytes()
     };
-    let mut ascii = ply_header(
-        "ascii",
-        "property double x\nproperty double y\nproperty double z\n",
-        4,
-        "property list uchar int vertex_indices",
-        2,
-    );
-    ascii.extend_from_slice(b"0 0 0\n1 0 0\n0 1 0\n0 0 0.1\n3 0 2 1\n3 0 1 3\n");
+    let ascii = ply_ascii_two_faces();
     let (want, _) = load_bytes(&ascii, None).unwrap();
     let indented = indent(&ascii);
     assert!(indented.starts_with(b"ply\n\tformat ascii 1.0\n \t  comment"));
@@ -832,29 +865,9 @@ fn ply_with_indented_header_lines_reads_as_without() {
     // Binary, header lines ended by a lone `\r` and indented; a payload
     // that starts with a space and a tab (as the x of the first vertex)
     // stays as it is.
-    let header = indent(&ply_header(
-        "binary_little_endian",
-        "property float x\nproperty float y\nproperty float z\n",
-        3,
-        "property list uchar int vertex_indices",
-        1,
-    ));
-    let header: Vec<u8> = header
-        .iter()
-        .map(|&c| if c == b'\n' { b'\r' } else { c })
-        .collect();
     let odd = f32::from_le_bytes([b' ', b'\t', b' ', 0x3f]);
-    let mut payload = Vec::new();
-    for p in [[odd, 0.0, 0.0], [1.0, 0.1, 0.0], [0.0, 1.0, 13.0]] {
-        for c in p {
-            payload.extend_from_slice(&c.to_le_bytes());
-        }
-    }
-    payload.push(3);
-    for i in [0i32, 1, 2] {
-        payload.extend_from_slice(&i.to_le_bytes());
-    }
-    let mut file = header;
+    let (header, payload) = ply_binary_triangle(odd);
+    let mut file = lone_cr(&indent(&header));
     file.extend_from_slice(&payload);
     let (got, report) = load_bytes(&file, None).unwrap();
     assert_eq!(report.format, MeshFormat::PlyBinaryLittleEndian);
@@ -878,14 +891,7 @@ fn ply_header_line_without_a_keyword_before_the_elements_is_a_comment() {
         out.extend_from_slice(&b[at..]);
         out
     };
-    let mut ascii = ply_header(
-        "ascii",
-        "property double x\nproperty double y\nproperty double z\n",
-        4,
-        "property list uchar int vertex_indices",
-        2,
-    );
-    ascii.extend_from_slice(b"0 0 0\n1 0 0\n0 1 0\n0 0 0.1\n3 0 2 1\n3 0 1 3\n");
+    let ascii = ply_ascii_two_faces();
     let (want, _) = load_bytes(&ascii, None).unwrap();
     let (got, report) = load_bytes(&blender(&ascii), None).unwrap();
     assert_eq!(got.positions, want.positions);
@@ -910,22 +916,11 @@ fn ply_header_line_without_a_keyword_before_the_elements_is_a_comment() {
         e => panic!("{e:?}"),
     }
 
-    let mut binary = ply_header(
-        "binary_little_endian",
-        "property float x\nproperty float y\nproperty float z\n",
-        3,
-        "property list uchar int vertex_indices",
-        1,
-    );
-    for c in [0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.5] {
-        binary.extend_from_slice(&c.to_le_bytes());
-    }
-    binary.push(3);
-    for i in [0i32, 1, 2] {
-        binary.extend_from_slice(&i.to_le_bytes());
-    }
+    let (header, payload) = ply_binary_triangle(0.0);
+    let binary = [header.clone(), payload.clone()].concat();
+    let blended = [blender(&header), payload].concat();
     let (want, _) = load_bytes(&binary, None).unwrap();
-    let (got, report) = load_bytes(&blender(&binary), None).unwrap();
+    let (got, report) = load_bytes(&blended, None).unwrap();
     assert_eq!(report.format, MeshFormat::PlyBinaryLittleEndian);
     assert_eq!(got.positions, want.positions);
     assert_eq!(ids(&got), vec![[0, 1, 2]]);
@@ -939,37 +934,18 @@ fn ply_header_line_without_a_keyword_before_the_elements_is_a_comment() {
     ));
 }
 
+/// Lines ended by a lone `\r` (classic Mac OS; Rhino 6 writes PLY headers
+/// so, draco keeps such a file) read as with `\n`: a binary file whose
+/// header ends its lines with `\r` (and whose payload holds `\r` bytes,
+/// which stay as they are), and an ASCII file with `\r` everywhere.
 #[test]
 fn ply_with_carriage_return_line_ends_reads_as_with_newlines() {
-    let cr = |b: &[u8]| -> Vec<u8> {
-        b.iter()
-            .map(|&c| if c == b'\n' { b'\r' } else { c })
-            .collect()
-    };
     // A vertex whose x is 0x0d0d0d0d as little-endian f32 bytes: a `\r`
     // in the payload.
     let odd = f32::from_le_bytes([b'\r'; 4]);
-    let mut header = ply_header(
-        "binary_little_endian",
-        "property float x\nproperty float y\nproperty float z\n",
-        3,
-        "property list uchar int vertex_indices",
-        1,
-    );
-    let mut payload = Vec::new();
-    for p in [[odd, 0.0, 0.0], [1.0, 0.1, 0.0], [0.0, 1.0, 13.0]] {
-        for c in p {
-            payload.extend_from_slice(&c.to_le_bytes());
-        }
-    }
-    payload.push(3);
-    for i in [0i32, 1, 2] {
-        payload.extend_from_slice(&i.to_le_bytes());
-    }
-    let mut lf = header.clone();
-    lf.extend_from_slice(&payload);
-    header = cr(&header);
-    header.extend_from_slice(&payload);
+    let (header, payload) = ply_binary_triangle(odd);
+    let lf = [header.clone(), payload.clone()].concat();
+    let header = [lone_cr(&header), payload].concat();
     let (want, _) = load_bytes(&lf, None).unwrap();
     let (got, report) = load_bytes(&header, None).unwrap();
     assert_eq!(report.format, MeshFormat::PlyBinaryLittleEndian);
@@ -977,22 +953,15 @@ fn ply_with_carriage_return_line_ends_reads_as_with_newlines() {
     assert_eq!(got.positions[0][0], f64::from(odd));
     assert_eq!(ids(&got), vec![[0, 1, 2]]);
 
-    let mut ascii = ply_header(
-        "ascii",
-        "property double x\nproperty double y\nproperty double z\n",
-        4,
-        "property list uchar int vertex_indices",
-        2,
-    );
-    ascii.extend_from_slice(b"0 0 0\n1 0 0\n0 1 0\n0 0 0.1\n3 0 2 1\n3 0 1 3\n");
+    let ascii = ply_ascii_two_faces();
     let (want, _) = load_bytes(&ascii, None).unwrap();
-    let (got, report) = load_bytes(&cr(&ascii), None).unwrap();
+    let (got, report) = load_bytes(&lone_cr(&ascii), None).unwrap();
     assert_eq!(report.format, MeshFormat::PlyAscii);
     assert_eq!(got.positions, want.positions);
     assert_eq!(ids(&got), vec![[0, 2, 1], [0, 1, 3]]);
     // A parse error names the line counted by `\r`: the header's 10 lines,
     // 4 vertices, then the second face, line 16.
-    let mut broken = cr(&ascii);
+    let mut broken = lone_cr(&ascii);
     let at = broken.len() - 2;
     broken[at] = b'x';
     match load_bytes(&broken, None).unwrap_err() {
