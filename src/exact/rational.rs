@@ -106,6 +106,13 @@ fn parse_decimal_checked(t: &str) -> Result<Rat, RationalParseError> {
     Ok(r)
 }
 
+/// An exact rational for people: its canonical text and, in brackets,
+/// its nearest double (`"3/20 (~0.15)"`); the double is rounded, for
+/// reading only.
+pub fn rat_to_string_with_nearest(r: &Rat) -> String {
+    format!("{} (~{})", rat_to_string(r), rat_to_f64(r))
+}
+
 /// The canonical text of an exact rational: `"p"` or `"p/q"` in lowest terms
 /// with `q > 1` (the interchange format's `rational`).
 pub fn rat_to_string(r: &Rat) -> String {

@@ -8,7 +8,7 @@
 //! is the highest `Z0 + k H` not above `z_max`.
 
 use crate::exact::point::gcd_u128;
-use crate::exact::rational::{rat_from_f64, rat_to_f64, rat_to_string, Rat};
+use crate::exact::rational::{rat_from_f64, rat_to_string, rat_to_string_with_nearest, Rat};
 use crate::mesh::Mesh;
 use num_bigint::BigInt;
 use num_integer::Integer;
@@ -66,7 +66,7 @@ fn shown(r: &Rat) -> String {
     if r.is_integer() {
         rat_to_string(r)
     } else {
-        format!("{} (~{})", rat_to_string(r), rat_to_f64(r))
+        rat_to_string_with_nearest(r)
     }
 }
 

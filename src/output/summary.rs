@@ -4,15 +4,11 @@
 
 use crate::classify::{ExtremumKind, Facing, RidgeKind};
 use crate::exact::area::AreaSum;
-use crate::exact::rational::{rat_to_f64, rat_to_string, Rat};
+use crate::exact::rational::rat_to_string_with_nearest;
 use crate::levelset::{LevelSet, Loop};
 use crate::nest::Role;
 use std::fmt::Write;
 use std::sync::Arc;
-
-fn area_text(a: &Rat) -> String {
-    format!("{} (~{})", rat_to_string(a), rat_to_f64(a))
-}
 
 /// Exact denominators past this many bits are not printed: the fraction
 /// would be unreadable and reducing it costs more than the slicing.
@@ -27,7 +23,7 @@ fn loops_area_text(loops: &[Loop]) -> String {
     if bound <= EXACT_TEXT_BITS {
         let sum = AreaSum::of(polygons());
         if sum.denominator_bits() <= EXACT_TEXT_BITS {
-            return area_text(&sum.reduce());
+            return rat_to_string_with_nearest(&sum.reduce());
         }
     }
     // The loops' certified roundings, summed (not built exactly: a
@@ -51,12 +47,7 @@ fn roles(loops: &[Loop]) -> (usize, usize) {
 pub fn summary(ls: &LevelSet) -> String {
     let mut s = String::new();
     let (o, h) = roles(&ls.contours);
-    let _ = writeln!(
-        s,
-        "level z = {} (~{})",
-        rat_to_string(&ls.level),
-        rat_to_f64(&ls.level)
-    );
+    let _ = writeln!(s, "level z = {}", rat_to_string_with_nearest(&ls.level));
     // L- and L+ share S_O's loops when no vertex lies on the plane: their
     // area is then computed once.
     let contours_area = loops_area_text(&ls.contours);
@@ -88,7 +79,7 @@ pub fn summary(ls: &LevelSet) -> String {
             "    {:?} region: {} faces, area {}, {} boundary loops",
             r.facing,
             r.faces.len(),
-            area_text(&r.area),
+            rat_to_string_with_nearest(&r.area),
             r.boundary.len()
         );
     }
@@ -147,6 +138,7 @@ pub fn summary(ls: &LevelSet) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::exact::rational::{rat_to_f64, Rat};
     use crate::exact::{Point2, Sign};
     use crate::segment::CutPoint;
 
@@ -231,6 +223,6 @@ mod tests {
         let small = many_denominators(4);
         let exact = crate::exact::area::signed_area(&small);
         let text = summary(&ls(small));
-        assert!(text.contains(&area_text(&exact)), "{text}");
+        assert!(text.contains(&rat_to_string_with_nearest(&exact)), "{text}");
     }
 }
