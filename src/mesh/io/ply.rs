@@ -277,11 +277,8 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
     }
     let normalized = readable_header(bytes);
     let bytes = normalized.as_deref().unwrap_or(bytes);
-    let commented = keywordless_as_comments(bytes);
-    let (bytes, header_note) = match commented {
-        Some((ref b, ref note)) => (b.as_slice(), Some(note.clone())),
-        None => (bytes, None),
-    };
+    let (commented, header_note) = keywordless_as_comments(bytes).unzip();
+    let bytes = commented.as_deref().unwrap_or(bytes);
     let parser = Parser::<Element>::new();
     let mut reader = Reader::new(Cursor::new(bytes));
     let header = parser
