@@ -4,11 +4,11 @@
 //!
 //! ```sh
 //! cargo run --release --features cgal-oracle --example heldout_oracle -- \
-//!     [--snap Q] [--levels N] MESH...
+//!     [--weld] [--snap Q] [--levels N] MESH...
 //! ```
 //!
-//! For each file, the mesh as sliced (read, snapped to `Q` when given,
-//! degenerate faces flipped away): validation's self-intersection verdict
+//! For each file, the mesh as sliced (read, welded with `--weld`, snapped
+//! to `Q` when given, degenerate faces flipped away): validation's self-intersection verdict
 //! and face pairs against CGAL's
 //! ([`wmslice::oracle::compare::compare_self_intersections`]; skipped when
 //! the topology has issues), then, when the slicer accepts the mesh, the
@@ -19,20 +19,23 @@
 
 use wmslice::datasets::slab::heights_and_midpoints;
 use wmslice::exact::parse_rational;
+use wmslice::mesh::prepare::{prepare_exact_with, CoincidentVertices, Repairs};
 use wmslice::oracle::compare::{compare_levels, compare_self_intersections, Coverage};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
     let (mut snap, mut levels, mut paths) = (None, 40usize, Vec::new());
+    let mut repairs = Repairs::default();
     while let Some(a) = args.next() {
         match a.as_str() {
+            "--weld" => repairs.coincident = CoincidentVertices::Weld,
             "--snap" => snap = Some(parse_rational(&args.next().ok_or("--snap needs Q")?)?),
             "--levels" => levels = args.next().ok_or("--levels needs N")?.parse()?,
             _ => paths.push(a),
         }
     }
     if paths.is_empty() {
-        return Err("usage: heldout_oracle [--snap Q] [--levels N] MESH...".into());
+        return Err("usage: heldout_oracle [--weld] [--snap Q] [--levels N] MESH...".into());
     }
     let mut disagreed = 0;
     for path in &paths {
@@ -46,7 +49,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 continue;
             }
         };
-        let mesh = match wmslice::mesh::prepare::prepare_exact(mesh, &exact, snap.as_ref()) {
+        let mesh = match prepare_exact_with(mesh, &exact, snap.as_ref(), repairs) {
             Ok(p) => p.mesh,
             Err(e) => {
                 println!("unsnapped {name}: {e}");

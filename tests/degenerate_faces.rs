@@ -501,7 +501,7 @@ fn faces_snapping_collapses_are_dropped_on_request_and_verified() {
         got.clone(),
         &ExactPositions::default(),
         Some(&q),
-        CollapsedFaces::Drop,
+        CollapsedFaces::Drop.into(),
     )
     .unwrap();
     assert_eq!(p.dropped.as_ref().map(Vec::len), Some(2));
@@ -517,7 +517,7 @@ fn faces_snapping_collapses_are_dropped_on_request_and_verified() {
         got.clone(),
         &ExactPositions::default(),
         Some(&q),
-        CollapsedFaces::Refuse,
+        CollapsedFaces::Refuse.into(),
     )
     .unwrap();
     assert!(kept.dropped.is_none());

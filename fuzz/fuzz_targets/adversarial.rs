@@ -4,8 +4,9 @@
 //! overlapping, touching or apart, coordinates rounded to `f32`, and the
 //! whole mesh scaled by `2^k` for `k` across the double range, or snapped
 //! to a coarse grid (which collapses faces and folds slivers); prepared as
-//! the CLI prepares a mesh, in either mode for collapsed faces (refused,
-//! or dropped as `--drop-collapsed` does).
+//! the CLI prepares a mesh, welded or not (`--weld`: a touching copy's
+//! corners merge with the body's), collapsed faces refused or dropped
+//! (`--drop-collapsed`).
 //! Output: nothing; panics on a bug. The mesh must be refused by name
 //! (degenerate faces repaired first, as the CLI does), or sliced at every
 //! vertex height and between with every invariant of SPEC section 7
@@ -23,7 +24,7 @@ use wmslice::exact::rational::Rat;
 use wmslice::ids::VertexId;
 use wmslice::levelset::check::check_level_invariants;
 use wmslice::levelset::SliceError;
-use wmslice::mesh::prepare::{prepare_with, CollapsedFaces};
+use wmslice::mesh::prepare::{prepare_with, CoincidentVertices, CollapsedFaces, Repairs};
 use wmslice::Mesh;
 
 /// Replaces face `f = (a, b, c)` by `(a, m, c)`, `(m, b, c)` and the sliver
@@ -68,8 +69,9 @@ fn add_copy(mesh: &mut Mesh, shift: [f64; 3]) {
 }
 
 /// The adversarial mesh, the snap grid when one was asked for, and the
-/// mode for faces that repeat a vertex.
-fn adversarial(data: &[u8]) -> (Mesh, Option<Rat>, CollapsedFaces) {
+/// repairs asked for (welding the copies' touching corners; faces that
+/// repeat a vertex dropped).
+fn adversarial(data: &[u8]) -> (Mesh, Option<Rat>, Repairs) {
     let (slab, rest) = Slab::split_bytes(data);
     let mut mesh = slab.mesh();
     let mut snap = None;
@@ -107,16 +109,20 @@ fn adversarial(data: &[u8]) -> (Mesh, Option<Rat>, CollapsedFaces) {
             }
         }
     }
-    let collapsed = CollapsedFaces::dropping(rest.len() % 2 == 1);
-    (mesh, snap, collapsed)
+    let repairs = Repairs {
+        coincident: CoincidentVertices::welding(rest.len() % 4 >= 2),
+        collapsed: CollapsedFaces::dropping(rest.len() % 2 == 1),
+    };
+    (mesh, snap, repairs)
 }
 
 fuzz_target!(|data: &[u8]| {
-    let (mesh, snap, collapsed) = adversarial(data);
-    // Snapped, the collapsed faces dropped or kept, degenerate faces
+    let (mesh, snap, repairs) = adversarial(data);
+    // Welded or not, snapped, the collapsed faces dropped or kept,
+    // degenerate faces
     // flipped away: as the CLI prepares a mesh. A grid the coordinates
     // are too far out for is refused by name (a typed error).
-    let Ok(prepared) = prepare_with(mesh, snap.as_ref(), collapsed) else {
+    let Ok(prepared) = prepare_with(mesh, snap.as_ref(), repairs) else {
         return;
     };
     let mesh = prepared.mesh;

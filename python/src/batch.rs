@@ -12,6 +12,7 @@
 //! shard's verdict is passed on by its counts (every check is per level).
 
 use crate::errors::{load_error, slice_error, snap_error, InternalError};
+use crate::mesh::repairs;
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -22,7 +23,7 @@ use wmslice::exact::rational::Rat;
 use wmslice::layers::{height_range, plan_levels, slice_levels_then, LayerPlan, SweepError};
 use wmslice::levelset::LevelSet;
 use wmslice::mesh::io::{load_bytes_exact, read_file, LoadError, MeshFormat};
-use wmslice::mesh::prepare::{prepare_exact_with, CollapsedFaces, PrepareError, Prepared};
+use wmslice::mesh::prepare::{prepare_exact_with, PrepareError, Prepared, Repairs};
 use wmslice::output::atomic::AtomicFile;
 use wmslice::output::certificate::{
     sha256_hex, Certificate, CertificateError, InputPart, LevelPart, Numeric, Options, ResultPart,
@@ -117,11 +118,7 @@ struct Part {
     prepared: Prepared,
 }
 
-fn read_part(
-    path: &Path,
-    snap: Option<&Rat>,
-    collapsed: CollapsedFaces,
-) -> Result<Part, PartError> {
+fn read_part(path: &Path, snap: Option<&Rat>, repairs: Repairs) -> Result<Part, PartError> {
     let name = path.display().to_string();
     let bytes = read_file(path).map_err(|source| {
         PartError::Load(
@@ -138,7 +135,7 @@ fn read_part(
         .and_then(MeshFormat::from_extension);
     let (mesh, _, exact) =
         load_bytes_exact(&bytes, hint).map_err(|e| PartError::Load(name.clone(), e))?;
-    let prepared = prepare_exact_with(mesh, &exact, snap, collapsed).map_err(|e| match e {
+    let prepared = prepare_exact_with(mesh, &exact, snap, repairs).map_err(|e| match e {
         PrepareError::NotDoubles(e) => PartError::Load(name.clone(), e),
         PrepareError::Snap(e) => PartError::Snap(e),
     })?;
@@ -147,6 +144,12 @@ fn read_part(
         bytes,
         prepared,
     })
+}
+
+/// The JSON header of a prepared part.
+fn header_of(p: &Prepared) -> MeshHeader {
+    MeshHeader::new(&p.mesh, p.unit.as_ref())
+        .with_repairs(p.welded, p.dropped.as_ref().map(Vec::len))
 }
 
 fn unit_of(p: &Prepared) -> Rat {
@@ -302,14 +305,14 @@ fn run_part(
     out: &Path,
     certificate: Option<&Path>,
     snap: Option<&Rat>,
-    collapsed: CollapsedFaces,
+    repairs: Repairs,
     args: &PlanArgs,
     exact: bool,
     threads: usize,
     shard: Option<(usize, usize)>,
     max_levels: Option<usize>,
 ) -> Result<Result<Done, usize>, PartError> {
-    let part = read_part(path, snap, collapsed)?;
+    let part = read_part(path, snap, repairs)?;
     let levels = plan(&part, args)?;
     let all = levels.len();
     if shard.is_none() && max_levels.is_some_and(|m| all > m) {
@@ -326,8 +329,7 @@ fn run_part(
     let unit = unit_of(&part.prepared);
     let grid = part.prepared.unit.as_ref();
     let slicer = Slicer::with_unit(mesh, unit.clone()).map_err(PartError::Slice)?;
-    let header =
-        MeshHeader::new(mesh, grid).with_dropped(part.prepared.dropped.as_ref().map(Vec::len));
+    let header = header_of(&part.prepared);
     let ex = exactness(exact);
     let out_name = out.display().to_string();
     let io = |e: std::io::Error| PartError::Io(out_name.clone(), e);
@@ -512,7 +514,7 @@ fn done_dict<'py>(py: Python<'py>, d: Done) -> PyResult<Bound<'py, PyDict>> {
 #[pyfunction]
 #[pyo3(signature = (path, output, certificate=None, snap=None, layer_height=None, first=None,
     last=None, levels=None, exact=false, threads=None, shard=None, max_levels=None,
-    drop_collapsed=false))]
+    drop_collapsed=false, weld=false))]
 #[allow(clippy::too_many_arguments)]
 pub fn slice_part<'py>(
     py: Python<'py>,
@@ -529,6 +531,7 @@ pub fn slice_part<'py>(
     shard: Option<(usize, usize)>,
     max_levels: Option<usize>,
     drop_collapsed: bool,
+    weld: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let q = opt_rat("snap grid", snap)?;
     let args = PlanArgs {
@@ -549,7 +552,7 @@ pub fn slice_part<'py>(
             &output,
             certificate.as_deref(),
             q.as_ref(),
-            CollapsedFaces::dropping(drop_collapsed),
+            repairs(weld, drop_collapsed),
             &args,
             exact,
             threads,
@@ -595,7 +598,7 @@ fn shard_texts(
 /// input hash, and must be the one the shards sliced.
 #[pyfunction]
 #[pyo3(signature = (path, output, shards, certificate=None, snap=None, exact=false,
-    drop_collapsed=false))]
+    drop_collapsed=false, weld=false))]
 #[allow(clippy::too_many_arguments)]
 pub fn join_shards<'py>(
     py: Python<'py>,
@@ -606,6 +609,7 @@ pub fn join_shards<'py>(
     snap: Option<&Bound<'py, PyAny>>,
     exact: bool,
     drop_collapsed: bool,
+    weld: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let q = opt_rat("snap grid", snap)?;
     struct Shard {
@@ -632,10 +636,8 @@ pub fn join_shards<'py>(
         });
     }
     let r = py.detach(|| -> Result<Done, PartError> {
-        let part = read_part(&path, q.as_ref(), CollapsedFaces::dropping(drop_collapsed))?;
-        let mesh = &part.prepared.mesh;
-        let header = MeshHeader::new(mesh, part.prepared.unit.as_ref())
-            .with_dropped(part.prepared.dropped.as_ref().map(Vec::len));
+        let part = read_part(&path, q.as_ref(), repairs(weld, drop_collapsed))?;
+        let header = header_of(&part.prepared);
         let input_sha256 = sha256_hex(&part.bytes);
         for s in &list {
             if s.mesh_sha256 != header.sha256 || s.input_sha256 != input_sha256 {

@@ -126,14 +126,19 @@ pub fn encode(ls: &LevelSet, header: &MeshHeader, exact: bool) -> Vec<u8> {
     w.len(header.faces);
     w.str(&header.sha256);
     // Bit 0: a snap grid follows; bit 1: a count of dropped collapsed
-    // faces follows (older encodings write 0 or 1).
-    let flags =
-        u8::from(header.snap.is_some()) | (u8::from(header.dropped_collapsed.is_some()) << 1);
+    // faces follows; bit 2: a count of welded vertices follows, after it
+    // (older encodings write 0 to 3).
+    let flags = u8::from(header.snap.is_some())
+        | (u8::from(header.dropped_collapsed.is_some()) << 1)
+        | (u8::from(header.welded.is_some()) << 2);
     w.u8(flags);
     if let Some(s) = &header.snap {
         w.str(s);
     }
     if let Some(n) = header.dropped_collapsed {
+        w.len(n);
+    }
+    if let Some(n) = header.welded {
         w.len(n);
     }
     w.u8(exact.into());
@@ -343,11 +348,16 @@ pub fn decode(data: &[u8]) -> Res<(LevelSet, MeshHeader, bool)> {
     }
     let (vertices, faces, sha256) = (r.len_value()?, r.len_value()?, r.str()?);
     let flags = r.u8()?;
-    if flags > 3 {
+    if flags > 7 {
         return Err("not this package's level format (header flags)".into());
     }
     let snap = if flags & 1 == 1 { Some(r.str()?) } else { None };
     let dropped_collapsed = if flags & 2 == 2 {
+        Some(r.len_value()?)
+    } else {
+        None
+    };
+    let welded = if flags & 4 == 4 {
         Some(r.len_value()?)
     } else {
         None
@@ -357,6 +367,7 @@ pub fn decode(data: &[u8]) -> Res<(LevelSet, MeshHeader, bool)> {
         faces,
         sha256,
         snap,
+        welded,
         dropped_collapsed,
     };
     let exact = r.bool()?;

@@ -8,7 +8,7 @@ use std::sync::OnceLock;
 use wmslice::exact::rational::Rat;
 use wmslice::ids::FaceId;
 use wmslice::mesh::flip::Flip;
-use wmslice::mesh::prepare::{prepare_with, CollapsedFaces, SnapStats};
+use wmslice::mesh::prepare::{prepare_with, Prepared, Repairs, SnapStats};
 use wmslice::mesh::snap::SnapError;
 use wmslice::mesh::validate::Report;
 use wmslice::output::json::MeshHeader;
@@ -48,6 +48,9 @@ pub struct MeshCore {
     pub snap: Option<SnapStats>,
     /// The degenerate faces removed by edge flips.
     pub flips: Vec<Flip>,
+    /// How many vertices at one point were merged, when asked for
+    /// (`weld`); `None` otherwise.
+    pub welded: Option<usize>,
     /// The faces that used one vertex twice, removed (ids as given), when
     /// asked for (`drop_collapsed`); `None` otherwise.
     pub dropped: Option<Vec<FaceId>>,
@@ -55,22 +58,25 @@ pub struct MeshCore {
 }
 
 impl MeshCore {
-    /// Snaps (when `q` is given), removes collapsed faces (when
-    /// `collapsed` says so), flips degenerate faces, validates and builds
-    /// the topology.
-    pub fn new(mesh: Mesh, q: Option<&Rat>, collapsed: CollapsedFaces) -> Result<Self, CoreError> {
-        let p = prepare_with(mesh, q, collapsed).map_err(CoreError::Snap)?;
-        Self::prepared(p.mesh, p.unit, p.snap, p.flips, p.dropped)
+    /// Welds (when `repairs` says so), snaps (when `q` is given), removes
+    /// collapsed faces (when `repairs` says so), flips degenerate faces,
+    /// validates and builds the topology.
+    pub fn new(mesh: Mesh, q: Option<&Rat>, repairs: Repairs) -> Result<Self, CoreError> {
+        let p = prepare_with(mesh, q, repairs).map_err(CoreError::Snap)?;
+        Self::prepared(p)
     }
 
-    /// Validates a mesh already prepared (unpickling): `unit` is its grid.
-    pub fn prepared(
-        mesh: Mesh,
-        unit: Option<Rat>,
-        snap: Option<SnapStats>,
-        flips: Vec<Flip>,
-        dropped: Option<Vec<FaceId>>,
-    ) -> Result<Self, CoreError> {
+    /// Validates a mesh already prepared (or unpickled: `unit` is its
+    /// grid).
+    pub fn prepared(p: Prepared) -> Result<Self, CoreError> {
+        let Prepared {
+            mesh,
+            unit,
+            snap,
+            welded,
+            dropped,
+            flips,
+        } = p;
         let owner = Owner {
             mesh,
             unit: unit.unwrap_or_else(|| Rat::from_integer(1.into())),
@@ -86,6 +92,7 @@ impl MeshCore {
             cell,
             snap,
             flips,
+            welded,
             dropped,
             header: OnceLock::new(),
         })
@@ -115,7 +122,7 @@ impl MeshCore {
     pub fn header(&self) -> &MeshHeader {
         self.header.get_or_init(|| {
             MeshHeader::new(self.mesh(), self.grid())
-                .with_dropped(self.dropped.as_ref().map(Vec::len))
+                .with_repairs(self.welded, self.dropped.as_ref().map(Vec::len))
         })
     }
 }

@@ -6,7 +6,7 @@ use crate::mesh::{ready, Mesh};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use wmslice::datasets::families::{all, answers::answers as exact_answers, by_name, Family};
-use wmslice::mesh::prepare::CollapsedFaces;
+use wmslice::mesh::prepare::Repairs;
 
 fn family(name: &str) -> PyResult<&'static Family> {
     by_name(name).ok_or_else(|| {
@@ -26,7 +26,7 @@ pub fn family_names() -> Vec<(&'static str, &'static str)> {
 #[pyfunction]
 pub fn family_mesh(py: Python<'_>, family: &str, seed: u64) -> PyResult<Mesh> {
     let f = self::family(family)?;
-    ready(py, f.generate(seed), f.snap(), CollapsedFaces::Refuse)
+    ready(py, f.generate(seed), f.snap(), Repairs::default())
 }
 
 /// The answers file of `wmslice gen --random SEED --family NAME --answers

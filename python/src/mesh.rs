@@ -21,7 +21,9 @@ use wmslice::ids::FaceId;
 use wmslice::layers::{height_range, plan_levels, slice_levels_then, LayerPlan};
 use wmslice::levelset::LevelSet;
 use wmslice::mesh::io::{load_bytes_exact, read_file, MeshFormat};
-use wmslice::mesh::prepare::{prepare_exact_with, CollapsedFaces, PrepareError};
+use wmslice::mesh::prepare::{
+    prepare_exact_with, CoincidentVertices, CollapsedFaces, PrepareError, Prepared, Repairs,
+};
 use wmslice::mesh::validate::Severity;
 use wmslice::output::critical::critical_json;
 use wmslice::{datasets as builtin, Mesh as RawMesh};
@@ -42,18 +44,21 @@ fn core_error(py: Python<'_>, e: CoreError) -> PyErr {
 }
 
 /// Validates and prepares a mesh without the GIL.
-pub fn ready(
-    py: Python<'_>,
-    mesh: RawMesh,
-    snap: Option<Rat>,
-    collapsed: CollapsedFaces,
-) -> PyResult<Mesh> {
+pub fn ready(py: Python<'_>, mesh: RawMesh, snap: Option<Rat>, repairs: Repairs) -> PyResult<Mesh> {
     let core = py
-        .detach(move || MeshCore::new(mesh, snap.as_ref(), collapsed))
+        .detach(move || MeshCore::new(mesh, snap.as_ref(), repairs))
         .map_err(|e| core_error(py, e))?;
     Ok(Mesh {
         core: Arc::new(core),
     })
+}
+
+/// The library's repairs from the Python flags.
+pub fn repairs(weld: bool, drop_collapsed: bool) -> Repairs {
+    Repairs {
+        coincident: CoincidentVertices::welding(weld),
+        collapsed: CollapsedFaces::dropping(drop_collapsed),
+    }
 }
 
 fn snap_of(snap: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Rat>> {
@@ -271,24 +276,34 @@ fn ascending(mut levels: Vec<Rat>) -> PyResult<Vec<Rat>> {
 #[pymethods]
 impl Mesh {
     /// A mesh from `(n, 3)` vertices and `(m, 3)` faces (counter-clockwise
-    /// seen from outside), snapped to the grid `snap` when given, faces
-    /// that use one vertex twice removed when `drop_collapsed` (SPEC 1's
-    /// lenient mode; later faces are renumbered), degenerate faces removed
-    /// by edge flips, then validated (`InvalidMesh` names every defect).
+    /// seen from outside), its vertices at exactly one point merged when
+    /// `weld` (exact; vertices renumbered in first-seen order), snapped to
+    /// the grid `snap` when given, faces that use one vertex twice removed
+    /// when `drop_collapsed` (SPEC 1's lenient mode; later faces are
+    /// renumbered), degenerate faces removed by edge flips, then validated
+    /// (`InvalidMesh` names every defect).
     #[new]
-    #[pyo3(signature = (vertices, faces, snap=None, drop_collapsed=false))]
+    #[pyo3(signature = (vertices, faces, snap=None, drop_collapsed=false, weld=false))]
     fn new(
         py: Python<'_>,
         vertices: &Bound<'_, PyAny>,
         faces: &Bound<'_, PyAny>,
         snap: Option<&Bound<'_, PyAny>>,
         drop_collapsed: bool,
+        weld: bool,
     ) -> PyResult<Self> {
         let q = snap_of(snap)?;
         let positions = positions(vertices)?;
         let faces = self::faces(faces, positions.len())?;
         let mesh = RawMesh::from_raw(positions, faces);
-        ready(py, mesh, q, CollapsedFaces::dropping(drop_collapsed))
+        ready(py, mesh, q, repairs(weld, drop_collapsed))
+    }
+
+    /// How many vertices `weld` merged into an earlier one at the same
+    /// point; None when not asked for.
+    #[getter]
+    fn welded(&self) -> Option<usize> {
+        self.core.welded
     }
 
     /// The faces `drop_collapsed` removed, by their ids as given; None
@@ -520,6 +535,7 @@ impl Mesh {
             snap,
             flips,
             self.dropped(),
+            self.core.welded,
         )
             .into_pyobject(py)?
             .into_any();
@@ -527,9 +543,10 @@ impl Mesh {
     }
 
     /// The mesh from [`Mesh::__reduce__`]'s state (`dropped` absent from
-    /// pickles made before `drop_collapsed`).
+    /// pickles made before `drop_collapsed`, `welded` from those made
+    /// before `weld`).
     #[staticmethod]
-    #[pyo3(signature = (positions, faces, snap, flips, dropped=None))]
+    #[pyo3(signature = (positions, faces, snap, flips, dropped=None, welded=None))]
     fn _restore(
         py: Python<'_>,
         positions: &[u8],
@@ -537,6 +554,7 @@ impl Mesh {
         snap: Option<(String, usize, String, usize)>,
         flips: Vec<[u32; 6]>,
         dropped: Option<Vec<u32>>,
+        welded: Option<usize>,
     ) -> PyResult<Mesh> {
         use wmslice::exact::parse_rational;
         use wmslice::ids::VertexId;
@@ -575,11 +593,16 @@ impl Mesh {
                 opposite: VertexId(opposite),
             })
             .collect();
-        let unit = stats.as_ref().map(|s| s.grid.clone());
-        let mesh = RawMesh::from_raw(pos, tri);
-        let dropped = dropped.map(|d| d.into_iter().map(FaceId).collect());
+        let prepared = Prepared {
+            unit: stats.as_ref().map(|s| s.grid.clone()),
+            mesh: RawMesh::from_raw(pos, tri),
+            snap: stats,
+            welded,
+            dropped: dropped.map(|d| d.into_iter().map(FaceId).collect()),
+            flips,
+        };
         let core = py
-            .detach(move || MeshCore::prepared(mesh, unit, stats, flips, dropped))
+            .detach(move || MeshCore::prepared(prepared))
             .map_err(|e| core_error(py, e))?;
         Ok(Mesh {
             core: Arc::new(core),
@@ -638,18 +661,19 @@ impl Mesh {
 }
 
 /// Reads a mesh file (STL, OBJ, OFF, PLY, 3MF: every format the command
-/// line reads, told by extension and content), snaps it when asked,
-/// removes the faces that use one vertex twice when `drop_collapsed`,
-/// removes degenerate faces and validates it.
+/// line reads, told by extension and content), merges its vertices at
+/// exactly one point when `weld`, snaps it when asked, removes the faces
+/// that use one vertex twice when `drop_collapsed`, removes degenerate
+/// faces and validates it.
 #[pyfunction]
-#[pyo3(signature = (path, snap=None, drop_collapsed=false))]
+#[pyo3(signature = (path, snap=None, drop_collapsed=false, weld=false))]
 pub fn load(
     py: Python<'_>,
     path: std::path::PathBuf,
     snap: Option<&Bound<'_, PyAny>>,
     drop_collapsed: bool,
+    weld: bool,
 ) -> PyResult<Mesh> {
-    let collapsed = CollapsedFaces::dropping(drop_collapsed);
     let q = snap_of(snap)?;
     let shown = path.display().to_string();
     let (mesh, exact) = py
@@ -668,13 +692,13 @@ pub fn load(
     // A 3MF vertex whose transformed position is not a double is placed
     // only by the grid; without one it is the file's error.
     let p = py
-        .detach(|| prepare_exact_with(mesh, &exact, q.as_ref(), collapsed))
+        .detach(|| prepare_exact_with(mesh, &exact, q.as_ref(), repairs(weld, drop_collapsed)))
         .map_err(|e| match e {
             PrepareError::NotDoubles(e) => load_error(&shown, e),
             PrepareError::Snap(e) => snap_error(py, e),
         })?;
     let core = py
-        .detach(move || MeshCore::prepared(p.mesh, p.unit, p.snap, p.flips, p.dropped))
+        .detach(move || MeshCore::prepared(p))
         .map_err(|e| core_error(py, e))?;
     Ok(Mesh {
         core: Arc::new(core),
@@ -691,7 +715,7 @@ pub fn dataset(py: Python<'_>, name: &str, snap: Option<&Bound<'_, PyAny>>) -> P
             "no built-in dataset {name:?}; wmslice.datasets() lists them"
         ))
     })?;
-    ready(py, d.build(), q, CollapsedFaces::Refuse)
+    ready(py, d.build(), q, Repairs::default())
 }
 
 /// The built-in datasets: `(name, summary, degenerate levels as Fractions)`.

@@ -114,3 +114,26 @@ def test_batch_drops_collapsed_faces_as_the_command_line_does(cli, scratch):
                 client=client, levels_per_task=3,
             )
             assert open(r["output"], "rb").read() == want
+
+
+def test_batch_welds_as_the_command_line_does(cli, scratch):
+    # The unit tetrahedron with each face on its own three vertices.
+    o, x, y, z = (0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)
+    v = [o, y, x, o, x, z, o, z, y, x, y, z]
+    p = scratch / "in" / "faces.obj"
+    p.parent.mkdir(exist_ok=True)
+    p.write_text("".join(f"v {a} {b} {c}\n" for a, b, c in v) + "".join(f"f {3 * i + 1} {3 * i + 2} {3 * i + 3}\n" for i in range(4)))
+    path = str(p)
+    want, want_cert = expected(cli, path, scratch / "cli.json", scratch / "cli.cert.json", "--weld")
+    assert json.loads(want)["mesh"]["welded"] == 8
+    with pytest.raises(wmslice.InvalidMesh, match="open edge"):
+        slice_files([path], scratch / "refused", layer_height="0.1")
+    (r,) = slice_files([path], scratch / "out", layer_height="0.1", weld=True)
+    assert open(r["output"], "rb").read() == want
+    assert json.loads(open(r["certificate"]).read())["mesh"] == want_cert["mesh"]
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        with distributed.Client(cluster) as client:
+            (r,) = slice_files([path], scratch / "shards", layer_height="0.1", weld=True, client=client, levels_per_task=3)
+            assert open(r["output"], "rb").read() == want
+

@@ -243,6 +243,47 @@ def test_faces_snapping_collapses_are_dropped_when_asked():
     assert json.loads(back.to_json())["mesh"]["dropped_collapsed"] == 2
 
 
+def face_by_face_tetra():
+    """The unit tetrahedron written with every face on its own three
+    vertices (twelve; one copy of the origin with -0), and the tetrahedron
+    those vertices weld to, by hand: vertices in first-seen order."""
+    o, x, y, z = [0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]
+    v = np.array([o, y, x, o, x, z, [0.0, -0.0, 0.0], z, y, x, y, z])
+    f = np.arange(12).reshape(4, 3)
+    welded = (np.array([o, y, x, z]), np.array([[0, 1, 2], [0, 2, 3], [0, 3, 1], [2, 1, 3]]))
+    return (v, f), welded
+
+
+def test_a_mesh_written_face_by_face_is_welded_when_asked(scratch):
+    (v, f), (wv, wf) = face_by_face_tetra()
+    with pytest.raises(wmslice.InvalidMesh, match="open edge"):
+        wmslice.Mesh(v, f)
+    m = wmslice.Mesh(v, f, weld=True)
+    tetra = wmslice.Mesh(wv, wf)
+    assert m.welded == 8 and tetra.welded is None
+    assert np.array_equal(m.vertices, wv) and np.array_equal(m.faces, wf) and m.sha256 == tetra.sha256
+    levels = [0, "1/2", 1]
+    got = json.loads(m.slice_many(levels, exact=True).to_json())
+    want = json.loads(tetra.slice_many(levels, exact=True).to_json())
+    assert got["levels"] == want["levels"]
+    assert got["mesh"]["welded"] == 8 and "welded" not in want["mesh"]
+    (loop,) = m.slice("1/2", exact=True).contours
+    assert sorted(loop.exact) == [(0, 0), (0, Fraction(1, 2)), (Fraction(1, 2), 0)]
+    # Pickled, the mesh and its levels keep the count.
+    assert pickle.loads(pickle.dumps(m)).welded == 8
+    back = pickle.loads(pickle.dumps(m.slice_many(levels, exact=True)))
+    assert json.loads(back.to_json())["mesh"]["welded"] == 8
+    # From a file, as the command line reads it.
+    path = scratch / "faces.obj"
+    path.write_text(
+        "".join(f"v {a!r} {b!r} {c!r}\n" for a, b, c in v.tolist())
+        + "".join(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in f.tolist())
+    )
+    with pytest.raises(wmslice.InvalidMesh, match="open edge"):
+        wmslice.load(path)
+    assert wmslice.load(path, weld=True).sha256 == tetra.sha256
+
+
 def test_a_file_with_faces_snapping_collapses_loads_when_asked(scratch):
     (v, f), (v2, f2) = cube_with_a_near_vertex()
     path = scratch / "near.obj"

@@ -383,10 +383,13 @@ class Mesh:
     """A closed, consistently oriented triangle mesh, validated and ready to
     slice.
 
-    ``Mesh(vertices, faces, snap=None, drop_collapsed=False)``:
+    ``Mesh(vertices, faces, snap=None, drop_collapsed=False, weld=False)``:
     ``vertices`` ``(n, 3)`` float64 or float32 (taken exactly), ``faces``
     ``(m, 3)`` of any integer type, counter-clockwise seen from outside.
-    With ``snap`` (a grid step such as ``'1/10000'``), every coordinate
+    With ``weld``, vertices at exactly one point (equal coordinates: an
+    exporter's seams) are merged first, as ``--weld`` does (exact, nothing
+    moves; vertices renumbered in first-seen order; :attr:`welded` counts
+    them). With ``snap`` (a grid step such as ``'1/10000'``), every coordinate
     moves to the nearest multiple (the one reported rounding). With
     ``drop_collapsed``, faces that use one vertex twice (no area) are
     removed instead of refused, as ``--drop-collapsed`` does (later faces
@@ -398,8 +401,8 @@ class Mesh:
 
     __slots__ = ("_m",)
 
-    def __init__(self, vertices, faces, snap=None, drop_collapsed: bool = False):
-        self._m = _native.Mesh(vertices, faces, snap, drop_collapsed)
+    def __init__(self, vertices, faces, snap=None, drop_collapsed: bool = False, weld: bool = False):
+        self._m = _native.Mesh(vertices, faces, snap, drop_collapsed, weld)
 
     @classmethod
     def _wrap(cls, native) -> "Mesh":
@@ -423,6 +426,10 @@ class Mesh:
     dropped = property(
         lambda self: self._m.dropped,
         doc="The faces drop_collapsed removed (ids as given), or None when not asked for.",
+    )
+    welded = property(
+        lambda self: self._m.welded,
+        doc="How many vertices weld merged into an earlier one at the same point, or None when not asked for.",
     )
     sha256 = property(lambda self: self._m.sha256, doc="SHA-256 of the mesh as sliced (the JSON header's).")
     z_range = property(lambda self: self._m.z_range, doc="Exact (z_min, z_max) as Fractions.")
@@ -471,9 +478,10 @@ class Mesh:
         return f"Mesh({self.num_vertices} vertices, {self.num_faces} faces{s})"
 
 
-def load(path, snap=None, drop_collapsed: bool = False) -> Mesh:
+def load(path, snap=None, drop_collapsed: bool = False, weld: bool = False) -> Mesh:
     """Reads a mesh file (STL binary/ASCII, OBJ, OFF, PLY, 3MF: every format
-    the command line reads), snaps it to ``snap`` when given, removes the
+    the command line reads), merges its vertices at exactly one point when
+    ``weld``, snaps it to ``snap`` when given, removes the
     faces that use one vertex twice when ``drop_collapsed`` (see
     :class:`Mesh`), removes degenerate faces and validates it. ``OSError`` when the file cannot be
     read, ``ValueError`` when it cannot be parsed, :class:`InvalidMesh` when
@@ -481,7 +489,7 @@ def load(path, snap=None, drop_collapsed: bool = False) -> Mesh:
     double (an object a slicer placed on its bed) has no exact place
     without a grid: ``ValueError``; with ``snap`` it is snapped from its
     exact image."""
-    return Mesh._wrap(_native.load(path, snap, drop_collapsed))
+    return Mesh._wrap(_native.load(path, snap, drop_collapsed, weld))
 
 
 def dataset(name: str, snap=None) -> Mesh:

@@ -40,8 +40,8 @@ def _shard(path, output, certificate, plan, exact, threads, start, stop):
     )
 
 
-def _join(path, output, certificate, snap, exact, drop_collapsed, shards):
-    return _native.join_shards(path, output, shards, certificate, snap, exact, drop_collapsed)
+def _join(path, output, certificate, snap, exact, drop_collapsed, weld, shards):
+    return _native.join_shards(path, output, shards, certificate, snap, exact, drop_collapsed, weld)
 
 
 def _outputs(paths: list[str], out_dir: Path, certificate: bool) -> list[tuple[str, str | None]]:
@@ -78,6 +78,7 @@ def slice_files(
     levels: Iterable[Any] | None = None,
     snap: Any = None,
     drop_collapsed: bool = False,
+    weld: bool = False,
     exact: bool = False,
     certificate: bool = True,
     client: Any = None,
@@ -89,7 +90,9 @@ def slice_files(
     ``layer_height``, ``first``, ``last`` and ``levels`` plan the levels as
     the command line's ``--layer-height``, ``--first``, ``--last`` and
     ``--at`` do (exact values: a float is its binary value, ``'0.2'`` is
-    1/5). ``snap`` snaps each mesh to a grid; ``drop_collapsed`` removes
+    1/5). ``weld`` merges each mesh's vertices at exactly one point first
+    (as ``--weld``; the header counts them); ``snap`` snaps each mesh to a
+    grid; ``drop_collapsed`` removes
     faces that use one vertex twice instead of refusing the part (as
     ``--drop-collapsed``; the header counts them); ``exact`` adds the
     exact values to the JSON. ``threads``: workers per task (default: all cores
@@ -109,6 +112,7 @@ def slice_files(
     plan = {
         "snap": snap,
         "drop_collapsed": drop_collapsed,
+        "weld": weld,
         "layer_height": layer_height,
         "first": first,
         "last": last,
@@ -138,7 +142,7 @@ def slice_files(
             shards.append(
                 client.submit(_shard, p, shard_out, c, plan, exact, threads, start, stop, pure=False)
             )
-        joins[i] = client.submit(_join, p, o, c, snap, exact, drop_collapsed, shards, pure=False)
+        joins[i] = client.submit(_join, p, o, c, snap, exact, drop_collapsed, weld, shards, pure=False)
     for i, d in zip(joins, client.gather(list(joins.values()))):
         done[i] = d
     return [_result(p, d) for p, d in zip(paths, done)]

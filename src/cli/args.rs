@@ -49,7 +49,7 @@ pub struct CriticalArgs {
     #[arg(long, value_name = "Q")]
     pub snap: Option<String>,
     #[command(flatten)]
-    pub collapsed: CollapsedArg,
+    pub repairs: RepairArgs,
     /// Output format.
     #[arg(long, value_enum, default_value_t = CriticalFormat::Text)]
     pub format: CriticalFormat,
@@ -155,7 +155,7 @@ pub struct CheckArgs {
     #[arg(long, value_name = "Q")]
     pub snap: Option<String>,
     #[command(flatten)]
-    pub collapsed: CollapsedArg,
+    pub repairs: RepairArgs,
 }
 
 /// Output format of `slice`.
@@ -216,7 +216,7 @@ pub struct SliceArgs {
     #[arg(long, value_name = "Q")]
     pub snap: Option<String>,
     #[command(flatten)]
-    pub collapsed: CollapsedArg,
+    pub repairs: RepairArgs,
     /// Add exact rationals (points, areas) and mesh elements to JSON.
     #[arg(long)]
     pub exact: bool,
@@ -252,18 +252,28 @@ pub struct SliceArgs {
     pub certificate: Option<PathBuf>,
 }
 
-/// `--drop-collapsed`, shared by the commands that load a mesh to slice.
+/// `--weld` and `--drop-collapsed`, shared by the commands that load a
+/// mesh to slice.
 #[derive(Args, Clone, Copy, Debug, Default)]
-pub struct CollapsedArg {
+pub struct RepairArgs {
+    /// Merge vertices at exactly one point (equal coordinates; an indexed
+    /// file's seams) before anything else, as an STL's corners are; exact,
+    /// nothing moves; recorded in the JSON header.
+    #[arg(long)]
+    pub weld: bool,
     /// Remove faces that use one vertex twice (left by welding or snapping;
     /// no area) instead of refusing the mesh; recorded in the JSON header.
     #[arg(long)]
     pub drop_collapsed: bool,
 }
 
-impl CollapsedArg {
-    /// The library's mode.
-    pub fn mode(self) -> wmslice::mesh::prepare::CollapsedFaces {
-        wmslice::mesh::prepare::CollapsedFaces::dropping(self.drop_collapsed)
+impl RepairArgs {
+    /// The library's repairs.
+    pub fn repairs(self) -> wmslice::mesh::prepare::Repairs {
+        use wmslice::mesh::prepare::{CoincidentVertices, CollapsedFaces, Repairs};
+        Repairs {
+            coincident: CoincidentVertices::welding(self.weld),
+            collapsed: CollapsedFaces::dropping(self.drop_collapsed),
+        }
     }
 }

@@ -10,7 +10,7 @@ use wmslice::mesh::validate::validate;
 
 /// Runs `check`.
 pub fn run(a: CheckArgs) -> Result<(), Failure> {
-    let input = load_input(&a.mesh, a.snap.as_deref(), a.collapsed.mode())?;
+    let input = load_input(&a.mesh, a.snap.as_deref(), a.repairs.repairs())?;
     let report = validate(&input.mesh);
     // A snapped mesh is stored in grid steps; report its measures in the
     // file's units.

@@ -41,7 +41,7 @@ fn plan(
 /// Runs `critical`.
 pub fn run(a: CriticalArgs) -> Result<(), Failure> {
     let (_, pool) = worker_pool(a.threads)?;
-    let input = pool.install(|| load_input(&a.mesh, a.snap.as_deref(), a.collapsed.mode()))?;
+    let input = pool.install(|| load_input(&a.mesh, a.snap.as_deref(), a.repairs.repairs()))?;
     for n in &input.notes {
         eprintln!("note: {n}");
     }

@@ -1,10 +1,13 @@
-//! Input: a mesh argument (a file or a built-in dataset name) and an
-//! optional snap grid. Output: the mesh to slice, with notes for the user.
+//! Input: a mesh argument (a file or a built-in dataset name), an optional
+//! snap grid and the repairs asked for (`--weld`, `--drop-collapsed`).
+//! Output: the mesh to slice, with notes for the user.
 //!
-//! Every command that loads a mesh (check, slice, verify) takes it through
-//! the same steps: read, snap when asked, then remove degenerate faces by
-//! edge flips (SPEC 1; `wmslice::mesh::flip`), so that the mesh hash in a
-//! result and the one `verify` computes are those of the mesh as sliced.
+//! Every command that loads a mesh (check, slice, critical, verify) takes
+//! it through the same steps (`wmslice::mesh::prepare`): read, weld when
+//! asked, snap when asked, remove collapsed faces when asked, then remove
+//! degenerate faces by edge flips (SPEC 1; `wmslice::mesh::flip`), so that
+//! the mesh hash in a result and the one `verify` computes are those of
+//! the mesh as sliced.
 
 use super::{ExitCode, Failure, Tag};
 use anyhow::anyhow;
@@ -15,7 +18,7 @@ use wmslice::exact::rational::{rat_to_f64, rat_to_string, Rat};
 use wmslice::mesh::flip::Flip;
 use wmslice::mesh::io::{load_bytes_exact, ExactPositions, MeshFormat};
 use wmslice::mesh::prepare::{
-    is_collapsed, prepare_exact_with, CollapsedFaces, PrepareError, SnapStats,
+    is_collapsed, prepare_exact_with, CoincidentVertices, PrepareError, Repairs, SnapStats,
 };
 use wmslice::output::json::MeshHeader;
 use wmslice::{FaceId, Mesh};
@@ -34,8 +37,10 @@ pub struct Input {
     pub file_bytes: Vec<u8>,
     /// The edge flips that removed degenerate faces, in the order made.
     pub flips: Vec<Flip>,
+    /// How many vertices `--weld` merged; `None` when not asked.
+    pub welded: Option<usize>,
     /// The faces that used one vertex twice, removed (ids as read), when
-    /// the mode was [`CollapsedFaces::Drop`]; `None` in the default mode.
+    /// `--drop-collapsed` asked; `None` in the default mode.
     pub dropped: Option<Vec<FaceId>>,
 }
 
@@ -75,14 +80,10 @@ fn dropped_note(dropped: &[FaceId]) -> String {
     )
 }
 
-/// Reads the mesh, snaps it when asked, removes collapsed faces when asked
-/// and degenerate faces by flips ([`wmslice::mesh::prepare`]), with notes
-/// for the user.
-pub fn load_input(
-    spec: &str,
-    snap_arg: Option<&str>,
-    collapsed_mode: CollapsedFaces,
-) -> Result<Input, Failure> {
+/// Reads the mesh, welds it when asked, snaps it when asked, removes
+/// collapsed faces when asked and degenerate faces by flips
+/// ([`wmslice::mesh::prepare`]), with notes for the user.
+pub fn load_input(spec: &str, snap_arg: Option<&str>, repairs: Repairs) -> Result<Input, Failure> {
     let path = Path::new(spec);
     let mut notes = Vec::new();
     let mut file_bytes = Vec::new();
@@ -117,7 +118,7 @@ pub fn load_input(
         });
     };
     let collapsed_before = collapsed_faces(&mesh);
-    let p = prepare_exact_with(mesh, &exact, q.as_ref(), collapsed_mode).map_err(|e| match e {
+    let p = prepare_exact_with(mesh, &exact, q.as_ref(), repairs).map_err(|e| match e {
         PrepareError::NotDoubles(e) => Failure {
             code: ExitCode::Input,
             error: e.into(),
@@ -127,6 +128,11 @@ pub fn load_input(
             error: e.into(),
         },
     })?;
+    if let Some(w) = p.welded {
+        notes.push(format!(
+            "welded {w} vertices into an earlier vertex at exactly the same point (exact: nothing moved; vertices renumbered in first-seen order)"
+        ));
+    }
     if let Some(s) = &p.snap {
         notes.push(format!(
             "snapped to grid {}: {} vertices moved, largest coordinate move {} (~{}), {} vertices merged",
@@ -138,10 +144,20 @@ pub fn load_input(
         ));
     }
     let collapsed = collapsed_faces(&p.mesh);
-    let by_snapping = collapsed.saturating_sub(collapsed_before);
-    if by_snapping > 0 {
+    let made = collapsed.saturating_sub(collapsed_before);
+    let welding = repairs.coincident == CoincidentVertices::Weld;
+    if made > 0 && p.snap.is_none() && welding {
         notes.push(format!(
-            "snapping put two corners of {by_snapping} faces on one grid point: each repeats a vertex, which validation refuses; a finer grid keeps them apart, or --drop-collapsed removes them"
+            "welding merged two corners of {made} faces: each repeats a vertex, which validation refuses; --drop-collapsed removes them (they have no area)"
+        ));
+    } else if made > 0 {
+        let (by, point) = if welding {
+            ("welding or snapping", "point")
+        } else {
+            ("snapping", "grid point")
+        };
+        notes.push(format!(
+            "{by} put two corners of {made} faces on one {point}: each repeats a vertex, which validation refuses; a finer grid keeps them apart, or --drop-collapsed removes them"
         ));
     } else if collapsed > 0 {
         notes.push(format!(
@@ -162,6 +178,7 @@ pub fn load_input(
         notes,
         file_bytes,
         flips: p.flips,
+        welded: p.welded,
         dropped,
     })
 }
@@ -170,6 +187,6 @@ impl Input {
     /// The JSON header of the mesh as sliced.
     pub fn header(&self) -> MeshHeader {
         MeshHeader::new(&self.mesh, self.unit.as_ref())
-            .with_dropped(self.dropped.as_ref().map(Vec::len))
+            .with_repairs(self.welded, self.dropped.as_ref().map(Vec::len))
     }
 }

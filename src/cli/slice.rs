@@ -161,7 +161,7 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
     let (threads, pool) = worker_pool(a.threads)?;
     let mut steps = Steps::start();
     let loading = step("reading and welding the mesh", a.quiet);
-    let input = pool.install(|| load_input(&a.mesh, a.snap.as_deref(), a.collapsed.mode()));
+    let input = pool.install(|| load_input(&a.mesh, a.snap.as_deref(), a.repairs.repairs()));
     loading.finish_and_clear();
     let input = input?;
     steps.mark("reading");

@@ -7,8 +7,9 @@
 //! with exact output exits 4; a mesh the slicer rejects exits 3.
 //!
 //! The snap grid is `--snap Q` when given, else the one the result's header
-//! names; the header must match the grid verified against. Faces that use
-//! one vertex twice are removed first when the header has
+//! names; the header must match the grid verified against. Vertices at one
+//! point are merged first when the header has `welded` (`slice --weld`),
+//! and faces that use one vertex twice removed when it has
 //! `dropped_collapsed` (`slice --drop-collapsed`).
 
 use super::args::VerifyArgs;
@@ -16,7 +17,7 @@ use super::input::load_input;
 use super::{ExitCode, Failure, Tag};
 use crate::say;
 use anyhow::anyhow;
-use wmslice::mesh::prepare::CollapsedFaces;
+use wmslice::mesh::prepare::{CoincidentVertices, CollapsedFaces, Repairs};
 use wmslice::verify::{read_header, verify, VerifyError};
 
 /// Runs `verify`.
@@ -37,10 +38,13 @@ pub fn run(a: VerifyArgs) -> Result<(), Failure> {
     };
     let header = read_header(&text).map_err(unreadable)?;
     let snap = a.snap.clone().or(header.snap);
-    // Collapsed faces are removed as the header says the slicer did; the
-    // mesh hash then tells whether the same faces went.
-    let collapsed = CollapsedFaces::dropping(header.dropped_collapsed.is_some());
-    let input = load_input(&a.mesh, snap.as_deref(), collapsed)?;
+    // Vertices are welded and collapsed faces removed as the header says
+    // the slicer did; the mesh hash then tells whether the same went.
+    let repairs = Repairs {
+        coincident: CoincidentVertices::welding(header.welded.is_some()),
+        collapsed: CollapsedFaces::dropping(header.dropped_collapsed.is_some()),
+    };
+    let input = load_input(&a.mesh, snap.as_deref(), repairs)?;
     let report = verify(&input.mesh, input.unit.as_ref(), &text).map_err(unreadable)?;
     if report.passed() {
         say!("{shown}: {}", report.summary());

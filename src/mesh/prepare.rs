@@ -1,11 +1,13 @@
 //! Input: a mesh as read (with the exact positions of the vertices that
-//! have no exact double, from 3MF transforms: [`ExactPositions`]) and an
-//! optional snap grid. Output: the mesh as sliced, with what was done to
-//! it: snapped to the grid when asked ([`crate::mesh::snap`], the one
-//! reported rounding), then, when the user asks for it, rid of the faces
-//! that use one vertex twice ([`CollapsedFaces::Drop`]), then rid of the
-//! degenerate faces edge flips remove ([`crate::mesh::flip`], exact; the
-//! surface does not move).
+//! have no exact double, from 3MF transforms: [`ExactPositions`]), an
+//! optional snap grid and the [`Repairs`] the user asks for. Output: the
+//! mesh as sliced, with what was done to it: when asked, its vertices at
+//! exactly one point merged ([`CoincidentVertices::Weld`], exact; nothing
+//! moves), then snapped to the grid when asked ([`crate::mesh::snap`], the
+//! one reported rounding), then, when asked, rid of the faces that use one
+//! vertex twice ([`CollapsedFaces::Drop`]), then rid of the degenerate
+//! faces edge flips remove ([`crate::mesh::flip`], exact; the surface does
+//! not move).
 //!
 //! Every front end (the command line, the Python package) takes a mesh
 //! through these steps, so the mesh hash in a result is that of the same
@@ -16,6 +18,7 @@ use crate::ids::FaceId;
 use crate::mesh::flip::{repair_degenerate, Flip};
 use crate::mesh::io::{ExactPositions, LoadError};
 use crate::mesh::snap::{snap_exact, SnapError};
+use crate::mesh::weld::weld_coincident;
 use crate::mesh::Mesh;
 use std::borrow::Cow;
 
@@ -60,6 +63,57 @@ impl CollapsedFaces {
     }
 }
 
+/// What to do with distinct vertices that lie at exactly one point (equal
+/// coordinates, `-0` and `+0` alike): an indexed file's seams, or a
+/// triangle soup written with indices. SPEC 1 welds an STL's corners by
+/// exact equality; indexed formats are taken as given unless the user
+/// asks.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CoincidentVertices {
+    /// Keep them apart: faces across them do not connect, and validation
+    /// names the open edges (with the coincident vertices as a note).
+    #[default]
+    Keep,
+    /// Merge them before anything else, as an STL's corners are: a lenient
+    /// mode SPEC 1 allows at the user's request. No coordinate changes; the
+    /// vertices are renumbered in first-seen order. A vertex whose exact
+    /// position is not a double ([`ExactPositions`]) is never merged here
+    /// (snapping merges it when it lands on another vertex's grid point).
+    Weld,
+}
+
+impl CoincidentVertices {
+    /// [`CoincidentVertices::Weld`] when `weld` (a front end's flag), else
+    /// [`CoincidentVertices::Keep`].
+    pub fn welding(weld: bool) -> Self {
+        if weld {
+            CoincidentVertices::Weld
+        } else {
+            CoincidentVertices::Keep
+        }
+    }
+}
+
+/// The lenient repairs a user may ask for (SPEC 1), beside snapping. The
+/// default makes none: the mesh is sliced as read or refused by name.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Repairs {
+    /// Vertices at one point: kept apart or welded (first).
+    pub coincident: CoincidentVertices,
+    /// Faces that use one vertex twice: refused or dropped (after welding
+    /// and snapping, which can make them).
+    pub collapsed: CollapsedFaces,
+}
+
+impl From<CollapsedFaces> for Repairs {
+    fn from(collapsed: CollapsedFaces) -> Self {
+        Repairs {
+            collapsed,
+            ..Repairs::default()
+        }
+    }
+}
+
 /// A mesh ready to slice.
 #[derive(Clone, Debug)]
 pub struct Prepared {
@@ -70,6 +124,9 @@ pub struct Prepared {
     pub unit: Option<Rat>,
     /// What snapping did, when snapped.
     pub snap: Option<SnapStats>,
+    /// With [`CoincidentVertices::Weld`], how many vertices were merged
+    /// into an earlier one at the same point; `None` in the default mode.
+    pub welded: Option<usize>,
     /// With [`CollapsedFaces::Drop`], the faces it removed, by their ids
     /// as read (snapping keeps the faces in order); `None` in the default
     /// mode.
@@ -84,20 +141,18 @@ pub struct Prepared {
 /// validation to name its defects; snapping refuses a non-finite
 /// coordinate itself.
 pub fn prepare(mesh: Mesh, q: Option<&Rat>) -> Result<Prepared, SnapError> {
-    prepare_with(mesh, q, CollapsedFaces::Refuse)
+    prepare_with(mesh, q, Repairs::default())
 }
 
-/// As [`prepare`], the faces that use one vertex twice removed after
-/// snapping when `collapsed` says so.
-pub fn prepare_with(
-    mesh: Mesh,
-    q: Option<&Rat>,
-    collapsed: CollapsedFaces,
-) -> Result<Prepared, SnapError> {
-    match q {
-        None => Ok(repair(mesh, None, None, collapsed)),
-        Some(q) => on_grid(mesh, &ExactPositions::default(), q, collapsed),
-    }
+/// As [`prepare`], with the [`Repairs`] the user asks for.
+pub fn prepare_with(mesh: Mesh, q: Option<&Rat>, repairs: Repairs) -> Result<Prepared, SnapError> {
+    let none = ExactPositions::default();
+    let (mesh, exact, welded) = weld_first(mesh, &none, repairs.coincident);
+    let prepared = match q {
+        None => repair(mesh, None, None, repairs.collapsed),
+        Some(q) => on_grid(mesh, &exact, q, repairs.collapsed)?,
+    };
+    Ok(Prepared { welded, ..prepared })
 }
 
 /// Why a mesh read with its exact positions could not be prepared.
@@ -121,21 +176,39 @@ pub fn prepare_exact(
     exact: &ExactPositions,
     q: Option<&Rat>,
 ) -> Result<Prepared, PrepareError> {
-    prepare_exact_with(mesh, exact, q, CollapsedFaces::Refuse)
+    prepare_exact_with(mesh, exact, q, Repairs::default())
 }
 
-/// As [`prepare_exact`], the faces that use one vertex twice removed after
-/// snapping when `collapsed` says so.
+/// As [`prepare_exact`], with the [`Repairs`] the user asks for.
 pub fn prepare_exact_with(
     mesh: Mesh,
     exact: &ExactPositions,
     q: Option<&Rat>,
-    collapsed: CollapsedFaces,
+    repairs: Repairs,
 ) -> Result<Prepared, PrepareError> {
-    match (q, exact.refusal()) {
-        (Some(q), _) => Ok(on_grid(mesh, exact, q, collapsed)?),
-        (None, None) => Ok(repair(mesh, None, None, collapsed)),
-        (None, Some(e)) => Err(PrepareError::NotDoubles(e)),
+    let (mesh, exact, welded) = weld_first(mesh, exact, repairs.coincident);
+    let prepared = match (q, exact.refusal()) {
+        (Some(q), _) => on_grid(mesh, &exact, q, repairs.collapsed)?,
+        (None, None) => repair(mesh, None, None, repairs.collapsed),
+        (None, Some(e)) => return Err(PrepareError::NotDoubles(e)),
+    };
+    Ok(Prepared { welded, ..prepared })
+}
+
+/// The mesh with its coincident vertices merged when `coincident` says so
+/// (`exact` renumbered with it), and how many were merged (`None`: not
+/// asked).
+fn weld_first(
+    mesh: Mesh,
+    exact: &ExactPositions,
+    coincident: CoincidentVertices,
+) -> (Mesh, Cow<'_, ExactPositions>, Option<usize>) {
+    match coincident {
+        CoincidentVertices::Keep => (mesh, Cow::Borrowed(exact), None),
+        CoincidentVertices::Weld => {
+            let w = weld_coincident(&mesh, exact);
+            (w.mesh, Cow::Owned(w.exact), Some(w.merged))
+        }
     }
 }
 
@@ -193,6 +266,7 @@ fn repair(
         mesh: repaired.unwrap_or(mesh),
         unit,
         snap,
+        welded: None,
         dropped,
         flips,
     }

@@ -201,8 +201,9 @@ pub enum Defect {
     /// mesh that is not a closed manifold: the likely cause of its open
     /// edges (an indexed file with seams, say). Listed as a note; such a
     /// mesh is refused for its other defects. Indexed formats are taken as
-    /// given; `--snap` merges equal coordinates.
-    #[error("vertex {vertex} lies exactly where vertex {first} does: faces across them do not connect (--snap merges vertices with equal coordinates)")]
+    /// given; `--weld` ([`crate::mesh::prepare::CoincidentVertices::Weld`])
+    /// merges equal coordinates, and so does `--snap`.
+    #[error("vertex {vertex} lies exactly where vertex {first} does: faces across them do not connect (--weld merges vertices with equal coordinates, exactly; --snap also does)")]
     CoincidentVertex {
         /// The later vertex.
         vertex: VertexId,

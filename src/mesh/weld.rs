@@ -1,6 +1,8 @@
 //! Input: a triangle soup (three corner positions per triangle, as STL holds
 //! it). Output: an indexed [`Mesh`] whose vertices are the distinct corner
-//! positions, merged by EXACT equality of coordinate values.
+//! positions, merged by EXACT equality of coordinate values. Also, on
+//! request (`--weld`), the same merge for an indexed mesh whose distinct
+//! vertices share a point ([`weld_coincident`]).
 //!
 //! Exact equality means `==` on `f64`: `-0.0` and `+0.0` are one coordinate,
 //! and a NaN equals nothing, so every corner with a NaN coordinate becomes a
@@ -16,6 +18,7 @@ use rayon::prelude::*;
 mod table;
 use table::Table;
 
+use super::io::ExactPositions;
 use super::Mesh;
 use crate::ids::VertexId;
 use crate::par;
@@ -117,6 +120,63 @@ pub(crate) fn weld_points(points: &[[f64; 3]]) -> Result<(Vec<[f64; 3]>, Vec<u32
     let hasher = ahash::RandomState::new();
     let run = weld_run(0..points.len(), points.len(), &|i| points[i], &hasher)?;
     Ok((run.positions, run.ids))
+}
+
+/// An indexed mesh with its vertices at exactly one point merged
+/// ([`weld_coincident`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CoincidentWelded {
+    /// The mesh: vertices in first-seen order, faces in input order.
+    pub mesh: Mesh,
+    /// The exact positions, renumbered as the vertices were.
+    pub exact: ExactPositions,
+    /// Vertices merged into an earlier one at the same point.
+    pub merged: usize,
+}
+
+/// Merges the vertices of an indexed mesh that lie at exactly one point
+/// (`==` on every coordinate, so `-0` and `+0` are one): each face corner
+/// goes to the first vertex at its point, and the vertices are renumbered
+/// in first-seen order. Never merged: a vertex with a NaN coordinate
+/// (validation names it) and a vertex in `exact`, whose double is not its
+/// position. A face index out of range stays out of range (validation
+/// names it).
+pub fn weld_coincident(mesh: &Mesh, exact: &ExactPositions) -> CoincidentWelded {
+    let n = mesh.num_vertices();
+    let mut apart = vec![false; n];
+    for (v, _) in exact.iter() {
+        if let Some(a) = apart.get_mut(v.idx()) {
+            *a = true;
+        }
+    }
+    let mut first: std::collections::HashMap<[u64; 3], u32, ahash::RandomState> =
+        std::collections::HashMap::with_capacity_and_hasher(n, ahash::RandomState::new());
+    let mut positions = Vec::with_capacity(n);
+    let mut new_id = Vec::with_capacity(n);
+    for (p, &apart) in mesh.positions.iter().zip(&apart) {
+        let fresh = |positions: &mut Vec<[f64; 3]>| {
+            positions.push(*p);
+            (positions.len() - 1) as u32
+        };
+        let id = if apart || p.iter().any(|x| x.is_nan()) {
+            fresh(&mut positions)
+        } else {
+            *first
+                .entry(p.map(coordinate_key))
+                .or_insert_with(|| fresh(&mut positions))
+        };
+        new_id.push(id);
+    }
+    let faces = mesh
+        .faces
+        .iter()
+        .map(|t| t.map(|v| new_id.get(v.idx()).map_or(v, |&id| VertexId(id))))
+        .collect();
+    CoincidentWelded {
+        merged: n - positions.len(),
+        exact: exact.renumbered(&new_id),
+        mesh: Mesh { positions, faces },
+    }
 }
 
 /// Triangles from which welding is split into runs.
@@ -468,6 +528,79 @@ mod tests {
         assert_eq!(w.mesh.positions, positions);
     }
 
+    /// Coordinates across the whole `f64` and `f32` range, decimals, both
+    /// zeros, NaN, and a few values that repeat (so that the mesh itself
+    /// has coincident vertices).
+    fn coordinate() -> impl proptest::strategy::Strategy<Value = f64> {
+        use proptest::prelude::*;
+        prop_oneof![
+            any::<u64>().prop_map(f64::from_bits),
+            any::<u32>().prop_map(|b| f64::from(f32::from_bits(b))),
+            (-1000i32..1000).prop_map(|k| f64::from(k) * 0.001),
+            proptest::sample::select(vec![0.0, -0.0, 1.0, f64::NAN, 3.6e-16]),
+        ]
+    }
+
+    /// The vertices of an indexed mesh by linear search: each vertex goes
+    /// to the first vertex equal to it (`==` on every coordinate; NaN
+    /// equals nothing), or to itself when `apart`.
+    fn weld_indexed_by_search(positions: &[[f64; 3]], apart: &[bool]) -> Vec<usize> {
+        (0..positions.len())
+            .map(|i| {
+                let same = |j: &usize| !apart[*j] && positions[*j] == positions[i];
+                if apart[i] {
+                    i
+                } else {
+                    (0..i).find(same).unwrap_or(i)
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn vertices_with_exact_positions_or_nan_are_never_welded() {
+        use crate::exact::rational::Rat;
+        // Vertex 2's double equals vertex 0's, but its exact position is
+        // not that double (a 3MF transform's image); vertices 3 and 4 hold
+        // a NaN. Only vertex 5 (vertex 1 with -0 for +0) merges.
+        let nan = f64::NAN;
+        let m = Mesh::from_raw(
+            vec![
+                [0.5, 0.0, 1.0],
+                [0.0, 2.0, 0.0],
+                [0.5, 0.0, 1.0],
+                [nan, 0.0, 0.0],
+                [nan, 0.0, 0.0],
+                [-0.0, 2.0, 0.0],
+                [7.0, 7.0, 7.0],
+            ],
+            vec![[0, 1, 2], [3, 4, 5], [5, 6, 2], [9, 5, 0]],
+        );
+        let third = Rat::new(1.into(), 3.into());
+        let mut exact = ExactPositions::default();
+        exact.push_for_test(VertexId(2), [third.clone(), third.clone(), third.clone()]);
+        exact.push_for_test(VertexId(6), [third.clone(), third.clone(), third.clone()]);
+        let w = weld_coincident(&m, &exact);
+        assert_eq!(w.merged, 1);
+        let ids = |f: [u32; 3]| f.map(VertexId);
+        // Renumbered 0 1 2 3 4 (1) 5; index 9 stays out of range.
+        assert_eq!(
+            w.mesh.faces,
+            [[0, 1, 2], [3, 4, 1], [1, 5, 2], [9, 1, 0]].map(ids)
+        );
+        assert_eq!(
+            w.mesh.positions[1].map(f64::to_bits),
+            [0.0, 2.0, 0.0].map(f64::to_bits)
+        );
+        assert_eq!(w.mesh.positions[5], [7.0, 7.0, 7.0]);
+        let renamed: Vec<VertexId> = w.exact.iter().map(|(v, _)| *v).collect();
+        assert_eq!(renamed, [VertexId(2), VertexId(5)]);
+        assert_eq!(
+            w.exact.iter().next().map(|(_, p)| p[0].clone()),
+            Some(third)
+        );
+    }
+
     proptest::proptest! {
         /// Coordinates from a small set (with both zeros and NaN), so that
         /// corners repeat often: the table agrees with the linear search,
@@ -506,6 +639,62 @@ mod tests {
                 .collect();
             proptest::prop_assert_eq!(&ids, &faces);
             proptest::prop_assert_eq!(bits(&kept), bits(&positions));
+        }
+
+        /// Seams made on purpose: a mesh over coordinates drawn across the
+        /// whole `f64` and `f32` range, some vertices copied (zeros turned
+        /// to `-0`) and some face corners moved onto the copies. Welding
+        /// agrees with the linear search; where the original vertices were
+        /// distinct and free of NaN, it gives back the original mesh, bit
+        /// for bit.
+        #[test]
+        fn welding_undoes_copied_vertices(
+            base in proptest::collection::vec(
+                proptest::array::uniform3(coordinate()), 3..12),
+            faces in proptest::collection::vec(proptest::array::uniform3(0usize..100), 1..16),
+            copies in proptest::collection::vec((0usize..100, 0usize..100), 0..20),
+        ) {
+            let n = base.len();
+            let faces: Vec<[u32; 3]> = faces.iter().map(|f| f.map(|i| (i % n) as u32)).collect();
+            let mut positions = base.clone();
+            let mut moved = faces.clone();
+            for &(v, corner) in &copies {
+                let v = v % n;
+                positions.push(base[v].map(|x| if x == 0.0 { -x } else { x }));
+                let c = corner % (3 * moved.len());
+                if moved[c / 3][c % 3] as usize == v {
+                    moved[c / 3][c % 3] = (positions.len() - 1) as u32;
+                }
+            }
+            let seamed = Mesh::from_raw(positions.clone(), moved.clone());
+            let w = weld_coincident(&seamed, &ExactPositions::default());
+            let first = weld_indexed_by_search(&positions, &vec![false; positions.len()]);
+            // First-seen numbering of the linear search's representatives.
+            let mut number = vec![None; positions.len()];
+            let mut kept = Vec::new();
+            for (i, &r) in first.iter().enumerate() {
+                if r == i {
+                    number[i] = Some(kept.len() as u32);
+                    kept.push(positions[i]);
+                }
+            }
+            let want: Vec<[VertexId; 3]> = moved
+                .iter()
+                .map(|f| f.map(|v| VertexId(number[first[v as usize]].unwrap())))
+                .collect();
+            let bits = |v: &[[f64; 3]]| -> Vec<[u64; 3]> {
+                v.iter().map(|p| p.map(f64::to_bits)).collect()
+            };
+            proptest::prop_assert_eq!(&w.mesh.faces, &want);
+            proptest::prop_assert_eq!(bits(&w.mesh.positions), bits(&kept));
+            proptest::prop_assert_eq!(w.merged, positions.len() - kept.len());
+            // The original vertices distinct and every copy merged (a copy
+            // of a vertex with a NaN coordinate is not): the original mesh.
+            if kept.len() == n {
+                let original = Mesh::from_raw(base.clone(), faces.clone());
+                proptest::prop_assert_eq!(&w.mesh.faces, &original.faces);
+                proptest::prop_assert_eq!(bits(&w.mesh.positions), bits(&original.positions));
+            }
         }
     }
 }

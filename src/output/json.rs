@@ -36,6 +36,10 @@ pub struct MeshHeader {
     pub sha256: String,
     /// The snap grid, or null.
     pub snap: Option<String>,
+    /// With `--weld` (an extra key, absent otherwise): how many vertices
+    /// at one point were merged into an earlier one before slicing.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub welded: Option<usize>,
     /// With `--drop-collapsed` (an extra key, absent otherwise): how many
     /// faces that used one vertex twice were removed before slicing.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -50,14 +54,16 @@ impl MeshHeader {
             faces: mesh.num_faces(),
             sha256: mesh_sha256(mesh),
             snap: snap.map(rat_to_string),
+            welded: None,
             dropped_collapsed: None,
         }
     }
 
-    /// The same header, saying how many collapsed faces were removed
-    /// (`None`: the default mode, which removes none).
-    pub fn with_dropped(self, dropped: Option<usize>) -> Self {
+    /// The same header, saying how many vertices were welded and how many
+    /// collapsed faces were removed (`None`: not asked for).
+    pub fn with_repairs(self, welded: Option<usize>, dropped: Option<usize>) -> Self {
         MeshHeader {
+            welded,
             dropped_collapsed: dropped,
             ..self
         }

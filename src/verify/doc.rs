@@ -162,6 +162,9 @@ pub struct HeaderDoc {
     pub sha256: String,
     /// Snap grid text, or `None` for null.
     pub snap: Option<String>,
+    /// `welded` when present: the result was computed with the vertices at
+    /// one point merged, and this many were.
+    pub welded: Option<u64>,
     /// `dropped_collapsed` when present: the result was computed with the
     /// faces that use one vertex twice removed, and this many were.
     pub dropped_collapsed: Option<u64>,
@@ -209,6 +212,10 @@ pub fn header(v: &Value) -> Result<HeaderDoc, FormatError> {
         Value::Null => None,
         s => Some(string(s, &mc.key("snap"))?),
     };
+    let welded = match m.get_mut("welded") {
+        Some(v) => Some(integer(v, &mc.key("welded"))?),
+        None => None,
+    };
     let dropped_collapsed = match m.get_mut("dropped_collapsed") {
         Some(v) => Some(integer(v, &mc.key("dropped_collapsed"))?),
         None => None,
@@ -221,6 +228,7 @@ pub fn header(v: &Value) -> Result<HeaderDoc, FormatError> {
         faces,
         sha256,
         snap,
+        welded,
         dropped_collapsed,
     })
 }

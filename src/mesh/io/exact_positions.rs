@@ -73,6 +73,25 @@ impl ExactPositions {
         self.positions.len()
     }
 
+    /// The same positions with every vertex `v` renamed `new_id[v]`, for a
+    /// renumbering that keeps these vertices in order (welding never merges
+    /// them, and keeps first-seen order).
+    pub(crate) fn renumbered(&self, new_id: &[u32]) -> Self {
+        ExactPositions {
+            first: self.first,
+            positions: self
+                .positions
+                .iter()
+                .map(|(v, p)| {
+                    (
+                        new_id.get(v.idx()).map_or(*v, |&id| VertexId(id)),
+                        p.clone(),
+                    )
+                })
+                .collect(),
+        }
+    }
+
     /// The vertices and their exact positions, in increasing id order.
     pub fn iter(&self) -> impl Iterator<Item = &(VertexId, [Rat; 3])> {
         self.positions.iter()
