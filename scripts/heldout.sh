@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Usage: scripts/heldout.sh [--snap Q] [--drop-collapsed] [--max N] MESH...
+# Usage: scripts/heldout.sh [--snap Q] [--weld] [--drop-collapsed] [--max N] MESH...
 #
 # Slices meshes you did not make at their hardest levels and re-checks
 # every result independently: for each mesh that `wmslice check` accepts
@@ -19,7 +19,8 @@ snap=(); drop=(); max=400
 while [ $# -gt 0 ]; do
     case "$1" in
         --snap) snap=(--snap "$2"); shift ;;
-        --drop-collapsed) drop=(--drop-collapsed) ;;
+        --drop-collapsed) drop+=(--drop-collapsed) ;;
+        --weld) drop+=(--weld) ;;
         --max) max="$2"; shift ;;
         -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
         *) break ;;
