@@ -108,9 +108,10 @@ fn index_i128(x: f64, (a, b): (i128, i128)) -> Option<(i128, i128, i128)> {
         // mask (two's complement: both exact for a negative `num`).
         (num >> den.trailing_zeros(), num & (den - 1))
     } else {
-        // One division (`i128` division is a library call).
-        let floor = num.div_euclid(den);
-        (floor, num - floor * den)
+        // `i128` division is a library call. The remainder straight from
+        // it: `num - floor * den` overflows when `num` is within `den` of
+        // `i128::MIN` (found by the adversarial fuzz target).
+        (num.div_euclid(den), num.rem_euclid(den))
     };
     let up = match r.cmp(&(den - r)) {
         std::cmp::Ordering::Less => false,
@@ -272,16 +273,46 @@ mod tests {
                 .prop_map(f64::from),
             (-100000i32..100000).prop_map(|k| f64::from(k) * 0.001),
             (any::<i32>(), -80i32..20).prop_map(|(m, e)| f64::from(m) * 2f64.powi(e)),
+            // Near the ends of `i128` once scaled (with the coarse grids
+            // below: indices up to 2^53).
+            (any::<i64>(), 60i32..75).prop_map(|(m, e)| (m >> 11) as f64 * 2f64.powi(e)),
         ]
     }
 
     fn grid() -> impl proptest::strategy::Strategy<Value = Rat> {
         use proptest::prelude::*;
         prop_oneof![
+            // Coarse grids with wide numerators, not powers of two.
+            (1u64..1 << 40, 40u32..90)
+                .prop_map(|(a, k)| Rat::from_integer((BigInt::from(2 * a + 1) << k) + 1)),
             (0u32..19).prop_map(|k| Rat::new(1.into(), BigInt::from(10u64).pow(k))),
             (0u32..200).prop_map(|k| Rat::new(1.into(), BigInt::from(2).pow(k))),
             (1u64..1 << 40, 1u64..1 << 40).prop_map(|(a, b)| Rat::new(a.into(), b.into())),
         ]
+    }
+
+    /// `x = -2^126` on the grid `q = (2^74 + 1) / 2`: in units of `1/2`,
+    /// `x / q = -2^127 / (2^74 + 1)` rounds to `-2^53` (the last index a
+    /// double holds), `floor(x / q) (2^74 + 1) = -2^127 - 2^53` is below
+    /// `i128::MIN`, and the move is `2^52`. A debug build panicked on that
+    /// product (found by the adversarial fuzz target, at `x = -2^126` on
+    /// the grid 3/2); a release build wrapped, which gave the right
+    /// remainder only because the remainder fits.
+    #[test]
+    fn a_remainder_at_the_end_of_i128_is_exact() {
+        let x = -(2f64.powi(126));
+        let a = (1i128 << 74) + 1;
+        let (n, t, d) = index_i128(x, (a, 2)).expect("fits i128");
+        assert_eq!(n, -(1i128 << 53));
+        // The move, in grid steps: 2^52 / q = 2^53 / (2^74 + 1).
+        assert_eq!(
+            Rat::new(t.into(), d.into()),
+            Rat::new((1i128 << 53).into(), a.into())
+        );
+        let q = Rat::new(a.into(), 2.into());
+        let (nr, delta) = index_rational(x, &q);
+        assert_eq!(BigInt::from(n), nr);
+        assert_eq!(delta, Rat::from_integer((1i128 << 52).into()));
     }
 
     proptest::proptest! {
@@ -302,7 +333,7 @@ mod tests {
                 // ordinary grid must take the i128 path (the big path
                 // would be correct, only slow).
                 None => proptest::prop_assert!(
-                    !(1e-6..=1e6).contains(&x.abs()) || parts.1 >= 1 << 41,
+                    !(1e-6..=1e6).contains(&x.abs()) || parts.0.max(parts.1) >= 1 << 41,
                     "{} on {} took the rational path", x, q
                 ),
             }
