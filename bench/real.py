@@ -2,7 +2,7 @@
 (run by bench/compare with the venv's Python, or by hand):
 
     python real.py --wmslice PATH [--wmslice-base PATH] [--layers 2000] \
-        [--runs 3] [--out DIR] [--no-pin] [--snap S] [--null] MESH...
+        [--runs 3] [--out DIR] [--no-pin] [--snap S] [--weld] [--null] MESH...
 
 For each mesh (STL, OBJ, OFF, PLY): the layer height H is the height span
 over LAYERS rounded to four significant digits (a decimal), the planes
@@ -14,6 +14,8 @@ to the highest vertex), given to manifold3d as their nearest doubles.
   write the JSON, fsync); the number paths it reports are kept. With
   `--snap S`, wmslice snaps (real meshes' usual mode) and slices its
   own plan on the snapped mesh; manifold3d keeps the unsnapped plan.
+  With `--weld`, wmslice merges an indexed file's vertices at one point
+  (manifold3d's input is merged the same way below).
   With `--null`, also the same command with `-o /dev/null` (everything
   but the file: manifold3d writes nothing), and its ratio.
 - manifold3d: `Manifold(Mesh(...))` plus `slice(z).to_polygons()` per
@@ -52,7 +54,8 @@ levels = [float(x) for x in open(levels_file).read().split()]
 m = trimesh.load_mesh(path, process=False, skip_materials=True)
 # Vertices as written, exactly equal points merged (an STL's corners), as
 # wmslice welds; manifold3d holds float32.
-flat = np.ascontiguousarray(m.vertices, dtype=np.float64)
+# -0 and +0 are one coordinate, as wmslice welds (+ 0.0 turns -0 to +0).
+flat = np.ascontiguousarray(m.vertices, dtype=np.float64) + 0.0
 keys = flat.view(np.dtype((np.void, 24))).ravel()
 _, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
 verts = np.ascontiguousarray(flat[first], dtype=np.float32)
@@ -129,6 +132,8 @@ def main():
                     help="do not pin each process to one CPU")
     ap.add_argument("--snap", default="",
                     help="run wmslice with --snap S (manifold3d's planes unchanged)")
+    ap.add_argument("--weld", action="store_true",
+                    help="run wmslice with --weld (vertices at one point merged, exactly)")
     ap.add_argument("--null", action="store_true",
                     help="also time wmslice writing its JSON to /dev/null")
     ap.add_argument("meshes", nargs="+")
@@ -138,10 +143,13 @@ def main():
     tools = [("wmslice", args.wmslice)] + ([("base", args.wmslice_base)] if args.wmslice_base else [])
     verbose = {b: "--verbose" in subprocess.run([b, "slice", "--help"], capture_output=True,
                                                  text=True).stdout for _, b in tools}
+    # What wmslice is asked to do to the mesh before slicing; `check` is
+    # asked the same.
+    repairs = (["--snap", args.snap] if args.snap else []) + (["--weld"] if args.weld else [])
     rows = []
     for mesh in args.meshes:
         name = os.path.basename(mesh)
-        if subprocess.run([args.wmslice, "check", mesh], capture_output=True).returncode != 0:
+        if subprocess.run([args.wmslice, "check", mesh, *repairs], capture_output=True).returncode != 0:
             print(f"{name}: rejected by wmslice check (not a closed oriented manifold), skipped",
                   flush=True)
             continue
@@ -162,8 +170,7 @@ def main():
                    "--format", "json", "-o", out]
             if verbose[binary]:
                 cmd.append("--verbose")
-            if args.snap:
-                cmd += ["--snap", args.snap]
+            cmd += repairs
             times = []
             err = ""
             try:
