@@ -543,17 +543,10 @@ mod tests {
 
     /// The vertices of an indexed mesh by linear search: each vertex goes
     /// to the first vertex equal to it (`==` on every coordinate; NaN
-    /// equals nothing), or to itself when `apart`.
-    fn weld_indexed_by_search(positions: &[[f64; 3]], apart: &[bool]) -> Vec<usize> {
+    /// equals nothing).
+    fn weld_indexed_by_search(positions: &[[f64; 3]]) -> Vec<usize> {
         (0..positions.len())
-            .map(|i| {
-                let same = |j: &usize| !apart[*j] && positions[*j] == positions[i];
-                if apart[i] {
-                    i
-                } else {
-                    (0..i).find(same).unwrap_or(i)
-                }
-            })
+            .map(|i| (0..i).find(|&j| positions[j] == positions[i]).unwrap_or(i))
             .collect()
     }
 
@@ -668,7 +661,7 @@ mod tests {
             }
             let seamed = Mesh::from_raw(positions.clone(), moved.clone());
             let w = weld_coincident(&seamed, &ExactPositions::default());
-            let first = weld_indexed_by_search(&positions, &vec![false; positions.len()]);
+            let first = weld_indexed_by_search(&positions);
             // First-seen numbering of the linear search's representatives.
             let mut number = vec![None; positions.len()];
             let mut kept = Vec::new();
