@@ -3,8 +3,9 @@
 #
 # Builds and runs every cargo-fuzz target of fuzz/ for SECONDS each:
 # the parsers (parse_*), slice_invariants, adversarial (slivers, overlapping
-# and touching copies, f32 rounding, 2^k scales, coarse snap grids, collapsed
-# faces refused or dropped; the slices and the critical values), and
+# and touching copies, f32 rounding, 2^k scales, coarse snap grids, corners
+# welded or not, collapsed faces refused or dropped; the slices and the
+# critical values), and
 # slice_oracle when the CGAL,
 # GMP, MPFR and Boost headers are present. Each run starts from the seeds
 # in fuzz/corpus/seeds/TARGET and grows a scratch corpus in
