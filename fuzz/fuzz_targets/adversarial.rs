@@ -24,7 +24,7 @@ use wmslice::exact::rational::Rat;
 use wmslice::ids::VertexId;
 use wmslice::levelset::check::check_level_invariants;
 use wmslice::levelset::SliceError;
-use wmslice::mesh::prepare::{prepare_with, CoincidentVertices, CollapsedFaces, Repairs};
+use wmslice::mesh::prepare::{prepare_with, Repairs};
 use wmslice::Mesh;
 
 /// Replaces face `f = (a, b, c)` by `(a, m, c)`, `(m, b, c)` and the sliver
@@ -109,10 +109,7 @@ fn adversarial(data: &[u8]) -> (Mesh, Option<Rat>, Repairs) {
             }
         }
     }
-    let repairs = Repairs {
-        coincident: CoincidentVertices::welding(rest.len() % 4 >= 2),
-        collapsed: CollapsedFaces::dropping(rest.len() % 2 == 1),
-    };
+    let repairs = Repairs::from_flags(rest.len() % 4 >= 2, rest.len() % 2 == 1);
     (mesh, snap, repairs)
 }
 

@@ -12,7 +12,6 @@
 //! shard's verdict is passed on by its counts (every check is per level).
 
 use crate::errors::{load_error, slice_error, snap_error, InternalError};
-use crate::mesh::repairs;
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -552,7 +551,7 @@ pub fn slice_part<'py>(
             &output,
             certificate.as_deref(),
             q.as_ref(),
-            repairs(weld, drop_collapsed),
+            Repairs::from_flags(weld, drop_collapsed),
             &args,
             exact,
             threads,
@@ -636,7 +635,7 @@ pub fn join_shards<'py>(
         });
     }
     let r = py.detach(|| -> Result<Done, PartError> {
-        let part = read_part(&path, q.as_ref(), repairs(weld, drop_collapsed))?;
+        let part = read_part(&path, q.as_ref(), Repairs::from_flags(weld, drop_collapsed))?;
         let header = header_of(&part.prepared);
         let input_sha256 = sha256_hex(&part.bytes);
         for s in &list {

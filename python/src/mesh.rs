@@ -21,9 +21,7 @@ use wmslice::ids::FaceId;
 use wmslice::layers::{height_range, plan_levels, slice_levels_then, LayerPlan};
 use wmslice::levelset::LevelSet;
 use wmslice::mesh::io::{load_bytes_exact, read_file, MeshFormat};
-use wmslice::mesh::prepare::{
-    prepare_exact_with, CoincidentVertices, CollapsedFaces, PrepareError, Prepared, Repairs,
-};
+use wmslice::mesh::prepare::{prepare_exact_with, PrepareError, Prepared, Repairs};
 use wmslice::mesh::validate::Severity;
 use wmslice::output::critical::critical_json;
 use wmslice::{datasets as builtin, Mesh as RawMesh};
@@ -51,14 +49,6 @@ pub fn ready(py: Python<'_>, mesh: RawMesh, snap: Option<Rat>, repairs: Repairs)
     Ok(Mesh {
         core: Arc::new(core),
     })
-}
-
-/// The library's repairs from the Python flags.
-pub fn repairs(weld: bool, drop_collapsed: bool) -> Repairs {
-    Repairs {
-        coincident: CoincidentVertices::welding(weld),
-        collapsed: CollapsedFaces::dropping(drop_collapsed),
-    }
 }
 
 fn snap_of(snap: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Rat>> {
@@ -296,7 +286,7 @@ impl Mesh {
         let positions = positions(vertices)?;
         let faces = self::faces(faces, positions.len())?;
         let mesh = RawMesh::from_raw(positions, faces);
-        ready(py, mesh, q, repairs(weld, drop_collapsed))
+        ready(py, mesh, q, Repairs::from_flags(weld, drop_collapsed))
     }
 
     /// How many vertices `weld` merged into an earlier one at the same
@@ -692,7 +682,14 @@ pub fn load(
     // A 3MF vertex whose transformed position is not a double is placed
     // only by the grid; without one it is the file's error.
     let p = py
-        .detach(|| prepare_exact_with(mesh, &exact, q.as_ref(), repairs(weld, drop_collapsed)))
+        .detach(|| {
+            prepare_exact_with(
+                mesh,
+                &exact,
+                q.as_ref(),
+                Repairs::from_flags(weld, drop_collapsed),
+            )
+        })
         .map_err(|e| match e {
             PrepareError::NotDoubles(e) => load_error(&shown, e),
             PrepareError::Snap(e) => snap_error(py, e),

@@ -270,10 +270,6 @@ pub struct RepairArgs {
 impl RepairArgs {
     /// The library's repairs.
     pub fn repairs(self) -> wmslice::mesh::prepare::Repairs {
-        use wmslice::mesh::prepare::{CoincidentVertices, CollapsedFaces, Repairs};
-        Repairs {
-            coincident: CoincidentVertices::welding(self.weld),
-            collapsed: CollapsedFaces::dropping(self.drop_collapsed),
-        }
+        wmslice::mesh::prepare::Repairs::from_flags(self.weld, self.drop_collapsed)
     }
 }

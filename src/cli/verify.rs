@@ -17,7 +17,7 @@ use super::input::load_input;
 use super::{ExitCode, Failure, Tag};
 use crate::say;
 use anyhow::anyhow;
-use wmslice::mesh::prepare::{CoincidentVertices, CollapsedFaces, Repairs};
+use wmslice::mesh::prepare::Repairs;
 use wmslice::verify::{read_header, verify, VerifyError};
 
 /// Runs `verify`.
@@ -40,10 +40,7 @@ pub fn run(a: VerifyArgs) -> Result<(), Failure> {
     let snap = a.snap.clone().or(header.snap);
     // Vertices are welded and collapsed faces removed as the header says
     // the slicer did; the mesh hash then tells whether the same went.
-    let repairs = Repairs {
-        coincident: CoincidentVertices::welding(header.welded.is_some()),
-        collapsed: CollapsedFaces::dropping(header.dropped_collapsed.is_some()),
-    };
+    let repairs = Repairs::from_flags(header.welded.is_some(), header.dropped_collapsed.is_some());
     let input = load_input(&a.mesh, snap.as_deref(), repairs)?;
     let report = verify(&input.mesh, input.unit.as_ref(), &text).map_err(unreadable)?;
     if report.passed() {

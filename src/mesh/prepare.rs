@@ -51,18 +51,6 @@ pub enum CollapsedFaces {
     Drop,
 }
 
-impl CollapsedFaces {
-    /// [`CollapsedFaces::Drop`] when `drop` (a front end's flag), else
-    /// [`CollapsedFaces::Refuse`].
-    pub fn dropping(drop: bool) -> Self {
-        if drop {
-            CollapsedFaces::Drop
-        } else {
-            CollapsedFaces::Refuse
-        }
-    }
-}
-
 /// What to do with distinct vertices that lie at exactly one point (equal
 /// coordinates, `-0` and `+0` alike): an indexed file's seams, or a
 /// triangle soup written with indices. SPEC 1 welds an STL's corners by
@@ -82,18 +70,6 @@ pub enum CoincidentVertices {
     Weld,
 }
 
-impl CoincidentVertices {
-    /// [`CoincidentVertices::Weld`] when `weld` (a front end's flag), else
-    /// [`CoincidentVertices::Keep`].
-    pub fn welding(weld: bool) -> Self {
-        if weld {
-            CoincidentVertices::Weld
-        } else {
-            CoincidentVertices::Keep
-        }
-    }
-}
-
 /// The lenient repairs a user may ask for (SPEC 1), beside snapping. The
 /// default makes none: the mesh is sliced as read or refused by name.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -103,6 +79,25 @@ pub struct Repairs {
     /// Faces that use one vertex twice: refused or dropped (after welding
     /// and snapping, which can make them).
     pub collapsed: CollapsedFaces,
+}
+
+impl Repairs {
+    /// The repairs a front end's flags ask for (`--weld`,
+    /// `--drop-collapsed`).
+    pub fn from_flags(weld: bool, drop_collapsed: bool) -> Self {
+        Repairs {
+            coincident: if weld {
+                CoincidentVertices::Weld
+            } else {
+                CoincidentVertices::Keep
+            },
+            collapsed: if drop_collapsed {
+                CollapsedFaces::Drop
+            } else {
+                CollapsedFaces::Refuse
+            },
+        }
+    }
 }
 
 impl From<CollapsedFaces> for Repairs {
