@@ -305,21 +305,13 @@ fn ratio_to_f64_normal(num: u128, d: u128, e: i32) -> Option<f64> {
         let dropped = k > 0 && num & ((1u128 << k) - 1) != 0;
         (high / d, dropped || high % d != 0)
     } else if s as u32 <= num.leading_zeros() {
-        // The shifted numerator fits: one division.
+        // The shifted numerator fits: one division, the remainder by a
+        // multiplication.
         let shifted = num << s;
-        (shifted / d, shifted % d != 0)
+        let q = shifted / d;
+        (q, shifted != q * d)
     } else {
-        // Long division, as many bits per step as `d` leaves room for.
-        let (mut q, mut r) = (num / d, num % d);
-        let mut left = s as u32;
-        while left > 0 {
-            let t = left.min(d.leading_zeros());
-            r <<= t;
-            q = (q << t) | (r / d);
-            r %= d;
-            left -= t;
-        }
-        (q, r != 0)
+        shifted_quotient_wide(num, s as u32, d)
     };
     // q has 55 or 56 bits, two or more beyond a double's 53: with the
     // sticky bit folded into its last bit (rounding to odd), the
@@ -334,6 +326,41 @@ fn ratio_to_f64_normal(num: u128, d: u128, e: i32) -> Option<f64> {
         return None;
     }
     Some((q as i64 as f64) * f64::from_bits(((exp + 1023) as u64) << 52))
+}
+
+/// `floor(num 2^s / d)` and whether the division leaves a remainder, when
+/// `num 2^s` overflows 128 bits but the quotient lies in `[2^54, 2^56)`
+/// (so `2^73 <= d < 2^126`). One division of the top bits by the top 64
+/// bits of `d` gives the quotient to within `[-2, +1]`: with `d = dt 2^t +
+/// low`, `dt = floor(d / 2^t)` in `[2^63, 2^64)` and `nt = floor(num 2^s /
+/// 2^t)` below `2^119`, the quotient lies between `nt / (dt + 1)` and
+/// `(nt + 1) / dt`, which differ from `nt / dt` by less than
+/// `nt / dt^2 + 1 / dt < 1`. The remainder of that estimate is below `2d
+/// < 2^127` in magnitude, so it is exact when computed modulo `2^128`
+/// (wrapping): a step or two corrects the quotient, exactly. In place of a
+/// long division (two divisions per `leading_zeros(d)` bits).
+fn shifted_quotient_wide(num: u128, s: u32, d: u128) -> (u128, bool) {
+    let t = 64 - d.leading_zeros();
+    let dt = d >> t;
+    let nt = if s >= t {
+        num << (s - t)
+    } else {
+        num >> (t - s)
+    };
+    let mut q = nt / dt;
+    // num 2^s - q d, modulo 2^128 (a shift by 128 or more leaves 0).
+    let low = num.checked_shl(s).unwrap_or(0);
+    let mut r = low.wrapping_sub(q.wrapping_mul(d)) as i128;
+    let d = d as i128;
+    while r < 0 {
+        q -= 1;
+        r += d;
+    }
+    while r >= d {
+        q += 1;
+        r -= d;
+    }
+    (q, r != 0)
 }
 
 #[cfg(test)]
@@ -433,6 +460,31 @@ mod tests {
             let d = (d >> (128 - db)).max(1);
             let reference = ratio_to_rat(n, d, e).to_f64().unwrap();
             proptest::prop_assert_eq!(ratio_to_f64(n, d, e).to_bits(), reference.to_bits());
+        }
+
+        /// The estimate-and-correct quotient of a numerator shifted past
+        /// 128 bits is big-integer division's quotient and remainder test:
+        /// divisors of 74 to 126 bits (all ones, powers of two and their
+        /// neighbours among them), numerators of every width.
+        #[test]
+        fn wide_shifted_quotients_are_exact(
+            num in proptest::num::u128::ANY, nb in 1u32..129,
+            d in proptest::num::u128::ANY, db in 74u32..127, edge in 0usize..4
+        ) {
+            let num = (num >> (128 - nb)).max(1);
+            let d = match edge {
+                0 => (d >> (128 - db)) | (1 << (db - 1)),
+                1 => (1 << db) - 1,
+                2 => 1 << (db - 1),
+                _ => (1 << (db - 1)) + 1,
+            };
+            let bits = |v: u128| 128 - v.leading_zeros() as i32;
+            let s = 55 - (bits(num) - bits(d));
+            proptest::prop_assume!(s > num.leading_zeros() as i32);
+            let (q, inexact) = shifted_quotient_wide(num, s as u32, d);
+            let (n, d) = (BigInt::from(num) << s as usize, BigInt::from(d));
+            proptest::prop_assert_eq!(BigInt::from(q), &n / &d);
+            proptest::prop_assert_eq!(inexact, !(&n % &d).is_zero());
         }
 
         /// The text of a rational is the big-integer text, whether its
