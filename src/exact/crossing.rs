@@ -767,6 +767,58 @@ mod tests {
             }
         }
 
+        /// Crossings of edges that share a coordinate with both ends (faces
+        /// parallel to an axis), coordinates across the whole range: the
+        /// coordinate they are known to have is the exact one, and the
+        /// filtered order of x and y and orient2d (in the points' frame)
+        /// are the exact ones, also between crossings that lie at the same
+        /// x or y on different edges.
+        #[test]
+        fn crossings_on_axis_parallel_edges_decide_exactly(
+            a in proptest::array::uniform3(coordinate_value()),
+            b in proptest::array::uniform3(coordinate_value()),
+            c in proptest::array::uniform3(coordinate_value()),
+            shared in proptest::array::uniform3(0u8..3), kind in 0u8..4, p in any::<i64>(), q in any::<i64>(),
+        ) {
+            use crate::exact::filter::{cmp_x, cmp_y, orient2d_filtered, FilteredPoint};
+            use crate::exact::predicates::orient2d_rat;
+            // Three edges from `a`'s height to `b`'s; `shared[i]` says
+            // which of x and y (bit 0 and 1) the i-th edge's ends share,
+            // the second and third at the first edge's shared values.
+            prop_assume!(a[2] != b[2]);
+            let ends = [(a, b), (c, b), (b, a)];
+            let edges: Vec<([f64; 3], [f64; 3])> = ends.iter().enumerate().map(|(i, &(p0, p1))| {
+                let mut e = (p0, [p1[0], p1[1], if i == 2 { a[2] } else { b[2] }]);
+                e.0[2] = if i == 2 { b[2] } else { a[2] };
+                for (k, &v) in a.iter().enumerate().take(2) {
+                    if shared[i] >> k & 1 == 1 {
+                        e.0[k] = v;
+                        e.1[k] = v;
+                    }
+                }
+                e
+            }).collect();
+            let level = Level::new(level_for(a[2], b[2], kind, p, q));
+            let frame = Frame::for_points(edges.iter().flat_map(|&(u, v)| [u, v]));
+            let approx = LevelApprox::new(&level, frame);
+            let level = Arc::new(level);
+            let held: Vec<LoopPoint> = edges.iter().map(|&(u, v)| LoopPoint::on_edge_with(u, v, &level, approx.as_ref()).0).collect();
+            let exact: Vec<Point2> = edges.iter().map(|&(u, v)| Point2::on_edge_reference(u, v, &level)).collect();
+            for (h, e) in held.iter().zip(&exact) {
+                for (k, v) in h.known_doubles().into_iter().enumerate() {
+                    if let Some(v) = v {
+                        prop_assert_eq!(&rat_from_f64(v), if k == 0 { &e.x } else { &e.y });
+                    }
+                }
+            }
+            let f: Vec<_> = held.iter().map(|h| FilteredPoint::in_frame(h, frame)).collect();
+            for (i, j) in [(0, 1), (1, 2), (0, 2)] {
+                prop_assert_eq!(cmp_x(&f[i], &f[j]), exact[i].x.cmp(&exact[j].x));
+                prop_assert_eq!(cmp_y(&f[i], &f[j]), exact[i].y.cmp(&exact[j].y));
+            }
+            prop_assert_eq!(orient2d_filtered(&f[0], &f[1], &f[2]), orient2d_rat(&exact[0], &exact[1], &exact[2]));
+        }
+
         /// Two different crossings are never equal, whatever their paths.
         #[test]
         fn distinct_crossings_differ(

@@ -169,7 +169,10 @@ fn approx_pair(x: i128, y: i128, w: i128, e: i32) -> Option<(f64, f64)> {
 /// as integers over a power of two `w` whose integers are doubles (below
 /// `2^53`) and whose scale is exact is its approximation exactly (`is_double`):
 /// its enclosure is that one value, and its predicates are decided on the
-/// doubles (exact predicates, [`super::predicates`]).
+/// doubles (exact predicates, [`super::predicates`]). So is each coordinate
+/// a crossing shares with both ends of its edge
+/// ([`LoopPoint::known_doubles`]), where the frame places it exactly; a
+/// point with both is a double.
 ///
 /// The approximations are of the point in a [`Frame`] (times `2^s`, the
 /// mesh's power of two; the identity for every ordinary mesh), which no
@@ -181,6 +184,9 @@ pub struct FilteredPoint<'a> {
     x: f64,
     y: f64,
     is_double: bool,
+    /// Whether each approximation is the coordinate exactly (in the
+    /// frame), as for every coordinate when `is_double`.
+    exact_axes: [bool; 2],
     frame: Frame,
     /// An error bound on top of the relative one, for both coordinates:
     /// zero but where a nearest double is subnormal (or zero for a value
@@ -243,11 +249,20 @@ impl<'a> FilteredPoint<'a> {
             },
             |(x, y)| (x, y, 0.0),
         );
+        // A coordinate known to be a double (an edge parallel to that
+        // axis) is its approximation exactly where the frame places it
+        // exactly.
+        let known = p
+            .known_doubles()
+            .map(|v| v.and_then(|v| frame.place_normal(v)));
+        let [x, y] = [(x, known[0]), (y, known[1])].map(|(a, k)| k.unwrap_or(a));
+        let exact_axes = known.map(|k| k.is_some());
         FilteredPoint {
             exact: p,
             x,
             y,
-            is_double,
+            is_double: is_double || exact_axes == [true, true],
+            exact_axes,
             frame,
             abs,
             ix: Interval::EVERYTHING,
@@ -269,8 +284,10 @@ impl<'a> FilteredPoint<'a> {
                     i
                 }
             };
-            self.ix = around(self.x);
-            self.iy = around(self.y);
+            let [ix, iy] = [(self.x, self.exact_axes[0]), (self.y, self.exact_axes[1])]
+                .map(|(v, exact)| if exact { Interval::at(v) } else { around(v) });
+            self.ix = ix;
+            self.iy = iy;
         }
     }
 

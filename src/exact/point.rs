@@ -629,6 +629,18 @@ impl LoopPoint {
         }
     }
 
+    /// Each coordinate that is known to be a double without exact
+    /// arithmetic: a crossing held by its edge `(a, b)` whose ends share
+    /// that coordinate lies exactly there (`a + t (b - a)` with `b - a =
+    /// 0`, whatever `t`), as on every face parallel to an axis, which CAD
+    /// parts are full of. `None` where it is not known this way.
+    pub fn known_doubles(&self) -> [Option<f64>; 2] {
+        match &self.0 {
+            Repr::Lazy(l) => [0, 1].map(|k| (l.a[k] == l.b[k]).then_some(l.a[k])),
+            Repr::Scaled(_) | Repr::Rational(_) => [None, None],
+        }
+    }
+
     /// Whether each coordinate is exactly zero (without building the
     /// exact value).
     pub fn zero_coordinates(&self) -> [bool; 2] {
