@@ -153,7 +153,11 @@ def main():
             print(f"{name}: rejected by wmslice check (not a closed oriented manifold), skipped",
                   flush=True)
             continue
-        lo, hi = z_range(mesh)
+        try:
+            lo, hi = z_range(mesh)
+        except Exception as e:  # trimesh reads manifold3d's input: no peer to time
+            print(f"{name}: trimesh cannot read it ({type(e).__name__}), skipped", flush=True)
+            continue
         h = four_digits(float(hi - lo) / args.layers)
         levels = []
         z = lo + h / 2
