@@ -768,11 +768,12 @@ mod tests {
         }
 
         /// Crossings of edges that share a coordinate with both ends (faces
-        /// parallel to an axis), coordinates across the whole range: the
+        /// parallel to an axis), and of edges moved along one axis (walls
+        /// of one row cut into the same bands, whose crossings share the
+        /// other coordinate), coordinates across the whole range: the
         /// coordinate they are known to have is the exact one, and the
         /// filtered order of x and y and orient2d (in the points' frame)
-        /// are the exact ones, also between crossings that lie at the same
-        /// x or y on different edges.
+        /// are the exact ones.
         #[test]
         fn crossings_on_axis_parallel_edges_decide_exactly(
             a in proptest::array::uniform3(coordinate_value()),
@@ -785,9 +786,10 @@ mod tests {
             // Three edges from `a`'s height to `b`'s; `shared[i]` says
             // which of x and y (bit 0 and 1) the i-th edge's ends share,
             // the second and third at the first edge's shared values.
+            // Then the first edge moved to `c`'s x, and to `c`'s y.
             prop_assume!(a[2] != b[2]);
             let ends = [(a, b), (c, b), (b, a)];
-            let edges: Vec<([f64; 3], [f64; 3])> = ends.iter().enumerate().map(|(i, &(p0, p1))| {
+            let mut edges: Vec<([f64; 3], [f64; 3])> = ends.iter().enumerate().map(|(i, &(p0, p1))| {
                 let mut e = (p0, [p1[0], p1[1], if i == 2 { a[2] } else { b[2] }]);
                 e.0[2] = if i == 2 { b[2] } else { a[2] };
                 for (k, &v) in a.iter().enumerate().take(2) {
@@ -798,6 +800,14 @@ mod tests {
                 }
                 e
             }).collect();
+            let first = edges[0];
+            for (k, &to) in c.iter().enumerate().take(2) {
+                let mut moved = first;
+                moved.0[k] = to;
+                moved.1[k] = to + (first.1[k] - first.0[k]);
+                prop_assume!(moved.1[k].is_finite());
+                edges.push(moved);
+            }
             let level = Level::new(level_for(a[2], b[2], kind, p, q));
             let frame = Frame::for_points(edges.iter().flat_map(|&(u, v)| [u, v]));
             let approx = LevelApprox::new(&level, frame);
@@ -812,11 +822,14 @@ mod tests {
                 }
             }
             let f: Vec<_> = held.iter().map(|h| FilteredPoint::in_frame(h, frame)).collect();
-            for (i, j) in [(0, 1), (1, 2), (0, 2)] {
-                prop_assert_eq!(cmp_x(&f[i], &f[j]), exact[i].x.cmp(&exact[j].x));
-                prop_assert_eq!(cmp_y(&f[i], &f[j]), exact[i].y.cmp(&exact[j].y));
+            for i in 0..f.len() {
+                for j in 0..f.len() {
+                    prop_assert_eq!(cmp_x(&f[i], &f[j]), exact[i].x.cmp(&exact[j].x));
+                    prop_assert_eq!(cmp_y(&f[i], &f[j]), exact[i].y.cmp(&exact[j].y));
+                }
             }
             prop_assert_eq!(orient2d_filtered(&f[0], &f[1], &f[2]), orient2d_rat(&exact[0], &exact[1], &exact[2]));
+            prop_assert_eq!(orient2d_filtered(&f[0], &f[3], &f[4]), orient2d_rat(&exact[0], &exact[3], &exact[4]));
         }
 
         /// Two different crossings are never equal, whatever their paths.

@@ -57,6 +57,7 @@ pub fn cmp_coordinate(a: &LoopPoint, b: &LoopPoint, axis: usize) -> Ordering {
             let (u, v) = if axis == 0 { (ax, bx) } else { (ay, by) };
             cmp_products(u, bw, v, aw)
         }
+        _ if a.same_coordinate_by_recipe(b, axis) => Ordering::Equal,
         _ => {
             let (p, q) = (a.exact(), b.exact());
             if axis == 0 {

@@ -504,6 +504,19 @@ impl Lazy {
         let (a, b, oa, ob) = (bits(self.a), bits(self.b), bits(o.a), bits(o.b));
         level && ((a, b) == (oa, ob) || (a, b) == (ob, oa))
     }
+
+    /// Whether coordinate `axis` (0 for x, 1 for y) is the same for both
+    /// by construction: edges whose ends hold the same values of that
+    /// coordinate and of z (either way round), at the same level. The
+    /// crossing's coordinate, `a_k + (b_k - a_k) (c - a_z) / (b_z - a_z)`,
+    /// depends on nothing else (as on the walls of one row of holes cut
+    /// into the same bands).
+    fn same_coordinate_recipe(&self, o: &Lazy, axis: usize) -> bool {
+        let ends = |p: [f64; 3]| (p[axis].to_bits(), p[2].to_bits());
+        let (a, b, oa, ob) = (ends(self.a), ends(self.b), ends(o.a), ends(o.b));
+        ((a, b) == (oa, ob) || (a, b) == (ob, oa))
+            && (Arc::ptr_eq(&self.level, &o.level) || self.level.value() == o.level.value())
+    }
 }
 
 impl LoopPoint {
@@ -638,6 +651,17 @@ impl LoopPoint {
         match &self.0 {
             Repr::Lazy(l) => [0, 1].map(|k| (l.a[k] == l.b[k]).then_some(l.a[k])),
             Repr::Scaled(_) | Repr::Rational(_) => [None, None],
+        }
+    }
+
+    /// Whether coordinate `axis` (0 for x, 1 for y) of the two is known to
+    /// be equal without exact arithmetic: crossings of edges that agree in
+    /// that coordinate and in z at both ends, at the same level. `false`
+    /// says nothing.
+    pub fn same_coordinate_by_recipe(&self, o: &LoopPoint, axis: usize) -> bool {
+        match (&self.0, &o.0) {
+            (Repr::Lazy(a), Repr::Lazy(b)) => a.same_coordinate_recipe(b, axis),
+            _ => false,
         }
     }
 
