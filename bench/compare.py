@@ -269,9 +269,10 @@ def main():
     ap.add_argument("--no-pin", dest="pin", action="store_false",
                     help="do not pin each process to one CPU (two for wmslice-2t)")
     ap.add_argument("--shapes", nargs="+",
-                    default=["torus", "steps", "torus0", "torus0@1e-9", "knot", "steps64"],
+                    default=["torus", "steps", "torus0", "torus0@1e-9", "knot", "steps64", "plate64"],
                     help="torus, steps: on one small grid; torus0 (origin-centred f32 with noise "
-                    "near zero), knot (decimal OBJ), steps64 (f64 CAD-like): real patterns; "
+                    "near zero), knot (decimal OBJ), steps64 (f64 CAD-like), plate64 (decimal OBJ, walls "
+                    "parallel to the axes: a perforated plate): real patterns; "
                     "SHAPE@Q: SHAPE with wmslice snapping to the grid Q (`--snap Q`; the peers "
                     "slice the file as read)")
     args = ap.parse_args()

@@ -24,6 +24,9 @@
 //! - [`steps_f64`]: the stepped part in `f64`, turned about z by an odd
 //!   angle (full 53-bit mantissas, near-zero noise), flats still at
 //!   `z = k * 1.25`: a CAD-like export.
+//! - [`plate`]: a perforated plate (a printer bed, a panel) as a decimal
+//!   OBJ: every wall parallel to x or y, so each level's many loops have
+//!   crossings that share a coordinate, ties the nesting decides.
 //!
 //! Vertices are shared, so a file of the mesh welds back to the same mesh.
 
@@ -298,6 +301,110 @@ pub fn knot(n: usize, m: usize) -> Builder {
 pub fn knot_of(triangles: usize) -> Builder {
     let m = ((triangles as f64 / 16.0).sqrt().round() as usize).max(3);
     knot(8 * m, m)
+}
+
+/// A perforated plate as CAD tools export a printer bed or a panel: an
+/// axis-aligned slab with `m x m` square through holes, and a notch in
+/// each side at every row of holes (mounting slots), on grid lines with
+/// six decimals (off every binary grid, placed where PrusaSlicer's `A.obj`
+/// test part lies); every wall parallel to x or y and cut into `bands`
+/// horizontal strips at six-decimal heights. Each level crosses every
+/// wall: `m^2 + 1` loops whose crossings share their y with the outline's
+/// notches (ties the nesting decides exactly).
+pub fn plate(m: usize, bands: usize) -> Builder {
+    // Columns: a notch column, a bar, then holes (even i) between bars,
+    // a bar and a notch column; rows: holes at odd j.
+    let (columns, rows) = (2 * m + 3, 2 * m + 1);
+    let hole = |i: usize, j: usize| j % 2 == 1 && i % 2 == 0 && (2..=2 * m).contains(&i);
+    let notch = |i: usize, j: usize| j % 2 == 1 && (i == 0 || i == columns - 1);
+    let decimal = |v: f64| (v * 1e6).round() / 1e6;
+    let lines = |origin: f64, widths: Vec<f64>| -> Vec<f64> {
+        let mut at = origin;
+        let mut out = vec![decimal(at)];
+        for w in widths {
+            at += w;
+            out.push(decimal(at));
+        }
+        out
+    };
+    let xs = lines(
+        513.075989,
+        (0..columns)
+            .map(|i| match i {
+                _ if hole(i, 1) => 2.5,
+                _ if notch(i, 1) => 1.2,
+                _ => 1.7,
+            })
+            .collect(),
+    );
+    let ys = lines(
+        51.607433,
+        (0..rows)
+            .map(|j| if j % 2 == 1 { 2.5 } else { 1.7 })
+            .collect(),
+    );
+    let zs: Vec<f64> = (0..=bands)
+        .map(|l| decimal(24.001101 + 11.999799 * l as f64 / bands as f64))
+        .collect();
+    let mut b = Builder {
+        double: true,
+        ..Builder::default()
+    };
+    let mut ids = std::collections::HashMap::new();
+    let mut at = |b: &mut Builder, i: usize, j: usize, l: usize| {
+        *ids.entry((i, j, l)).or_insert_with(|| {
+            b.pos.push([xs[i], ys[j], zs[l]]);
+            (b.pos.len() - 1) as u32
+        })
+    };
+    let solid = |i: isize, j: isize| {
+        (0..columns as isize).contains(&i)
+            && (0..rows as isize).contains(&j)
+            && !hole(i as usize, j as usize)
+            && !notch(i as usize, j as usize)
+    };
+    for i in 0..columns {
+        for j in 0..rows {
+            let (ii, jj) = (i as isize, j as isize);
+            if !solid(ii, jj) {
+                continue;
+            }
+            // Top (facing +z, counter-clockwise from above) and bottom.
+            let corners = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)];
+            let top = corners.map(|(x, y)| at(&mut b, x, y, bands));
+            let bottom = corners.map(|(x, y)| at(&mut b, x, y, 0));
+            b.tris.push([top[0], top[1], top[2]]);
+            b.tris.push([top[0], top[2], top[3]]);
+            b.tris.push([bottom[0], bottom[2], bottom[1]]);
+            b.tris.push([bottom[0], bottom[3], bottom[2]]);
+            // A wall wherever the neighbour is empty: its cell edge from
+            // `p` to `q`, counter-clockwise seen from outside the solid.
+            let walls = [
+                (solid(ii + 1, jj), (i + 1, j), (i + 1, j + 1)),
+                (solid(ii, jj + 1), (i + 1, j + 1), (i, j + 1)),
+                (solid(ii - 1, jj), (i, j + 1), (i, j)),
+                (solid(ii, jj - 1), (i, j), (i + 1, j)),
+            ];
+            for (filled, p, q) in walls {
+                if filled {
+                    continue;
+                }
+                for l in 0..bands {
+                    let [p0, q0, q1, p1] = [(p, l), (q, l), (q, l + 1), (p, l + 1)]
+                        .map(|((x, y), l)| at(&mut b, x, y, l));
+                    b.tris.push([p0, q0, q1]);
+                    b.tris.push([p0, q1, p1]);
+                }
+            }
+        }
+    }
+    b
+}
+
+/// [`plate`] with 8 x 8 holes and about `triangles` triangles (360 walls
+/// of `2 bands` triangles each, 972 on the faces).
+pub fn plate_of(triangles: usize) -> Builder {
+    plate(8, (triangles.saturating_sub(972) / 720).max(1))
 }
 
 impl Builder {

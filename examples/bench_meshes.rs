@@ -8,8 +8,9 @@
 //! Writes `torus_<size>.stl` and `steps_<size>.stl` (on one small binary
 //! grid), and the classes with real coordinate patterns:
 //! `torus0_<size>.stl` (centred at the origin, `f32` noise near zero),
-//! `knot_<size>.obj` (six decimals) and `steps64_<size>.obj` (`f64`,
-//! turned: CAD-like). Sizes: `200k` and `1m` (about 200 000 and 1 000 000
+//! `knot_<size>.obj` (six decimals), `steps64_<size>.obj` (`f64`,
+//! turned: CAD-like) and `plate64_<size>.obj` (six decimals, walls
+//! parallel to the axes: a perforated plate). Sizes: `200k` and `1m` (about 200 000 and 1 000 000
 //! triangles), or a number of triangles (`50000`).
 
 #[path = "../bench/meshgen.rs"]
@@ -43,12 +44,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ("torus0", meshgen::torus_origin_of(target), "stl"),
             ("knot", meshgen::knot_of(target), "obj"),
             ("steps64", meshgen::steps_f64_of(target), "obj"),
+            ("plate64", meshgen::plate_of(target), "obj"),
         ] {
             let stem = format!("{name}_{}", label.to_ascii_lowercase());
             let path = dir.join(format!("{stem}.{ext}"));
             match (ext, name) {
                 ("stl", _) => mesh.write_stl(&path)?,
-                (_, "knot") => mesh.write_obj(&path, Some(6))?,
+                (_, "knot" | "plate64") => mesh.write_obj(&path, Some(6))?,
                 _ => mesh.write_obj(&path, None)?,
             }
             let (lo, hi) = mesh.z_range();

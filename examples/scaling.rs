@@ -1,7 +1,7 @@
 //! How the cost grows with triangles and with layers: builds the
 //! benchmark shapes of `bench/compare` (`bench/meshgen.rs`: on one small
 //! grid, `torus` and `steps`; with real coordinate patterns, `torus0`,
-//! `knot` and `steps64`) in memory at
+//! `knot`, `steps64` and `plate64`) in memory at
 //! 0.1 M to 10 M triangles, times validation + topology and the layer sweep,
 //! and prints a Markdown table with the cost per triangle and per output
 //! point:
@@ -123,14 +123,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     // The two shapes on one small grid, then the classes with real
     // coordinate patterns (bench/meshgen.rs).
-    for shape in ["torus", "steps", "torus0", "knot", "steps64"] {
+    for shape in ["torus", "steps", "torus0", "knot", "steps64", "plate64"] {
         for &n in SIZES.iter().filter(|&&n| n <= max) {
             let b = match shape {
                 "torus" => meshgen::torus_of(n),
                 "steps" => meshgen::steps_of(n),
                 "torus0" => meshgen::torus_origin_of(n),
                 "knot" => meshgen::knot_of(n),
-                _ => meshgen::steps_f64_of(n),
+                "steps64" => meshgen::steps_f64_of(n),
+                _ => meshgen::plate_of(n),
             };
             print(&measure(shape, &b, 100, threads)?);
             if n == 1_000_000 {
