@@ -783,7 +783,8 @@ mod tests {
         ) {
             use crate::exact::filter::{cmp_x, cmp_y, orient2d_filtered, FilteredPoint};
             use crate::exact::predicates::orient2d_rat;
-            // Three edges from `a`'s height to `b`'s; `shared[i]` says
+            // Three edges between `a`'s height and `b`'s (the third
+            // going down); `shared[i]` says
             // which of x and y (bit 0 and 1) the i-th edge's ends share,
             // the second and third at the first edge's shared values.
             // Then the first edge moved to `c`'s x, and to `c`'s y.

@@ -331,14 +331,15 @@ fn ratio_to_f64_normal(num: u128, d: u128, e: i32) -> Option<f64> {
 /// `floor(num 2^s / d)` and whether the division leaves a remainder, when
 /// `num 2^s` overflows 128 bits but the quotient lies in `[2^54, 2^56)`
 /// (so `2^73 <= d < 2^126`). One division of the top bits by the top 64
-/// bits of `d` gives the quotient to within `[-2, +1]`: with `d = dt 2^t +
-/// low`, `dt = floor(d / 2^t)` in `[2^63, 2^64)` and `nt = floor(num 2^s /
-/// 2^t)` below `2^119`, the quotient lies between `nt / (dt + 1)` and
-/// `(nt + 1) / dt`, which differ from `nt / dt` by less than
-/// `nt / dt^2 + 1 / dt < 1`. The remainder of that estimate is below `2d
-/// < 2^127` in magnitude, so it is exact when computed modulo `2^128`
-/// (wrapping): a step or two corrects the quotient, exactly. In place of a
-/// long division (two divisions per `leading_zeros(d)` bits).
+/// bits of `d` gives the quotient to within one: with `d = dt 2^t + low`,
+/// `dt = floor(d / 2^t)` in `[2^63, 2^64)` and `nt = floor(num 2^s / 2^t)`
+/// below `2^119`, the exact quotient lies between `nt / (dt + 1)` and
+/// `(nt + 1) / dt`, both less than `nt / dt^2 + 1 / dt < 1` from `nt /
+/// dt`, so the floors differ by at most one. The remainder of that
+/// estimate lies in `(-d, 2d)`, below `2^127` in magnitude, so it is exact
+/// when computed modulo `2^128` (wrapping), and one step corrects the
+/// quotient, exactly. In place of a long division (two divisions per
+/// `leading_zeros(d)` bits).
 fn shifted_quotient_wide(num: u128, s: u32, d: u128) -> (u128, bool) {
     let t = 64 - d.leading_zeros();
     let dt = d >> t;
@@ -463,9 +464,9 @@ mod tests {
         }
 
         /// The estimate-and-correct quotient of a numerator shifted past
-        /// 128 bits is big-integer division's quotient and remainder test:
-        /// divisors of 74 to 126 bits (all ones, powers of two and their
-        /// neighbours among them), numerators of every width.
+        /// 128 bits, and whether a remainder is left, are big-integer
+        /// division's: divisors of 74 to 126 bits (all ones, powers of two
+        /// and their neighbours among them), numerators of every width.
         #[test]
         fn wide_shifted_quotients_are_exact(
             num in proptest::num::u128::ANY, nb in 1u32..129,
