@@ -10,8 +10,9 @@
 //! `torus0_<size>.stl` (centred at the origin, `f32` noise near zero),
 //! `knot_<size>.obj` (six decimals), `steps64_<size>.obj` (`f64`,
 //! turned: CAD-like) and `plate64_<size>.obj` (six decimals, walls
-//! parallel to the axes: a perforated plate). Sizes: `200k` and `1m` (about 200 000 and 1 000 000
-//! triangles), or a number of triangles (`50000`).
+//! parallel to the axes: a perforated plate). Sizes: `200k` and `1m`
+//! (about 200 000 and 1 000 000 triangles), or a number of triangles
+//! (`50000`).
 
 #[path = "../bench/meshgen.rs"]
 #[allow(dead_code)] // the criterion benches use the rest
