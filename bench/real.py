@@ -149,9 +149,11 @@ def main():
     rows = []
     for mesh in args.meshes:
         name = os.path.basename(mesh)
-        if subprocess.run([args.wmslice, "check", mesh, *repairs], capture_output=True).returncode != 0:
-            print(f"{name}: rejected by wmslice check (not a closed oriented manifold), skipped",
-                  flush=True)
+        check = subprocess.run([args.wmslice, "check", mesh, *repairs], capture_output=True,
+                               text=True)
+        if check.returncode != 0:
+            why = (check.stderr.strip().splitlines() or ["no message"])[-1]
+            print(f"{name}: refused by wmslice check ({why}), skipped", flush=True)
             continue
         try:
             lo, hi = z_range(mesh)
