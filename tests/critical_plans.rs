@@ -86,8 +86,15 @@ proptest! {
 fn flats_closer_than_half_the_layer_height_are_refused_by_name() {
     let rep = report(&datasets::by_name("peg_cube").unwrap().build());
     match fit_layers(&rep, &r("1.1")) {
-        Err(FitError::FlatsTooClose { lower, upper, .. }) => {
+        Err(FitError::FlatsTooClose {
+            lower,
+            upper,
+            distance,
+            approx,
+            ..
+        }) => {
             assert_eq!((lower.as_str(), upper.as_str()), ("3", "7/2"));
+            assert_eq!((distance.as_str(), approx.as_str()), ("1/2", "0.5"));
         }
         other => panic!("expected FlatsTooClose, got {other:?}"),
     }

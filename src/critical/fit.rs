@@ -23,8 +23,9 @@
 
 use super::{CriticalLevel, CriticalReport};
 use crate::classify::Facing;
-use crate::exact::rational::{rat_to_string, Rat};
+use crate::exact::rational::{rat_to_f64, rat_to_string, Rat};
 use crate::layers::plan::MAX_LEVELS;
+use crate::mesh::validate::Shown;
 use num_traits::{Signed, ToPrimitive, Zero};
 
 /// Why a plan cannot be made.
@@ -35,16 +36,20 @@ pub enum FitError {
     NonPositiveHeight(String),
     /// Two required boundaries (flats, or a flat and the bottom or top)
     /// are closer than `H/2`: no layer between them can be thick enough.
-    #[error("flats at z = {lower} and z = {upper} are closer than half the layer height {height}: no layer between them can be {half} thick (choose a layer height of at most twice their distance)")]
+    /// Flats a file's rounding split (an `f32` part's bottom at `0`,
+    /// `1.8e-15` and `2.7e-15`) are merged by snapping the mesh.
+    #[error("flats at z = {lower} and z = {upper} are {distance} apart (~{approx}), closer than half the layer height {height}, the thinnest layer a plan holds (choose a layer height of at most twice their distance or, when they differ only by a file's rounding, snap the mesh: --snap Q)")]
     FlatsTooClose {
         /// The lower height, `p/q`.
         lower: String,
         /// The upper height, `p/q`.
         upper: String,
+        /// Their distance, `p/q` (exact).
+        distance: String,
+        /// Their distance's nearest double, as text (for reading only).
+        approx: String,
         /// The layer height, `p/q`.
         height: String,
-        /// Half the layer height, `p/q`.
-        half: String,
     },
     /// Too many layers.
     #[error("the plan has {0} layers, more than the limit of {MAX_LEVELS}")]
@@ -127,8 +132,9 @@ pub fn fit_layers(report: &CriticalReport, h: &Rat) -> Result<Vec<Layer>, FitErr
             return Err(FitError::FlatsTooClose {
                 lower: rat_to_string(w[0]),
                 upper: rat_to_string(w[1]),
+                distance: rat_to_string(&d),
+                approx: Shown(rat_to_f64(&d)).to_string(),
                 height: rat_to_string(h),
-                half: rat_to_string(&half),
             });
         }
         let n = layer_count(&d, h);

@@ -768,7 +768,7 @@ fn degenerate_faces(mesh: &Mesh) -> Vec<FaceId> {
 /// as it, in exponent form below `1e-5` and from `1e16` on (`1e-300`
 /// rather than 300 zeros). Display only: the thresholds pick a notation
 /// for the report's text, no decision reads them.
-struct Shown(f64);
+pub(crate) struct Shown(pub(crate) f64);
 
 impl fmt::Display for Shown {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
