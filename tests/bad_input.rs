@@ -207,7 +207,7 @@ fn rows() -> Vec<Row> {
             tetra_with(|f| f.push(f[2])),
             s,
             3,
-            "face f4 duplicates face f2",
+            "face f4 duplicates face f2, the same way round (one face written twice)",
         ),
         row(
             "degenerate face (flipped away, noted by check)",

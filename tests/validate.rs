@@ -4,7 +4,7 @@
 use std::process::Command;
 use wmslice::datasets;
 use wmslice::ids::{FaceId, VertexId};
-use wmslice::mesh::validate::{accept, validate, Defect};
+use wmslice::mesh::validate::{accept, validate, Defect, Turn};
 use wmslice::Mesh;
 
 const TETRA_POS: [[f64; 3]; 4] = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]];
@@ -194,10 +194,37 @@ fn duplicate_faces_are_named() {
     assert!(
         r.defects.contains(&Defect::DuplicateFace {
             face: f(4),
-            first: f(2)
+            first: f(2),
+            turn: Turn::Same,
         }),
         "{r}"
     );
+}
+
+/// Two bodies touching along a face (as a multibody file holds them): the
+/// tetrahedron and its mirror below the plane z = 0, sharing the three
+/// vertices there. The mirror's top face [0, 1, 2] is the tetrahedron's
+/// bottom face [0, 2, 1] turned the other way.
+#[test]
+fn a_face_two_bodies_share_is_a_duplicate_turned_the_other_way() {
+    let mut pos = TETRA_POS.to_vec();
+    pos.push([0., 0., -1.]);
+    let mut faces = TETRA.to_vec();
+    faces.extend([[0, 1, 2], [0, 4, 1], [0, 2, 4], [1, 4, 2]]);
+    let r = validate(&Mesh::from_raw(pos, faces));
+    let duplicate = Defect::DuplicateFace {
+        face: f(4),
+        first: f(0),
+        turn: Turn::Reversed,
+    };
+    assert!(r.defects.contains(&duplicate), "{r}");
+    assert!(
+        duplicate
+            .to_string()
+            .contains("turned the other way (two bodies"),
+        "{duplicate}"
+    );
+    assert!(!r.is_accepted());
 }
 
 /// The tetrahedron with vertex 3 at `apex` and a vertex 4 at the midpoint
@@ -396,6 +423,7 @@ fn validation_reports_the_same_on_one_and_on_several_threads() {
         Defect::DuplicateFace {
             face: f(0),
             first: f(0),
+            turn: Turn::Same,
         },
         Defect::DegenerateFace {
             face: f(0),

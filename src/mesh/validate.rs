@@ -54,6 +54,42 @@ pub enum Severity {
     Warning,
 }
 
+/// How a duplicate face runs against the first face on its three
+/// vertices (their cyclic orders compared: exact, no geometry).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Turn {
+    /// The same way round: one face written twice.
+    Same,
+    /// The other way round: two bodies touch along it (files that hold
+    /// several bodies, e.g. a multibody CAD export), or the surface folds
+    /// back into a sheet there.
+    Reversed,
+}
+
+impl Turn {
+    /// How face `b` runs against face `a`, both on the same three vertices.
+    fn of(a: [VertexId; 3], b: [VertexId; 3]) -> Turn {
+        let i = a.iter().position(|&v| v == b[0]).unwrap_or(0);
+        if a[(i + 1) % 3] == b[1] {
+            Turn::Same
+        } else {
+            Turn::Reversed
+        }
+    }
+}
+
+impl fmt::Display for Turn {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Turn::Same => "the same way round (one face written twice)",
+            Turn::Reversed => {
+                "turned the other way (two bodies touching along it, as a multibody file holds them, or a sheet)"
+            }
+        })
+    }
+}
+
 /// One defect of a mesh, naming the elements involved.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error, serde::Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
@@ -86,12 +122,14 @@ pub enum Defect {
         face: FaceId,
     },
     /// The same three vertices form two faces.
-    #[error("face {face} duplicates face {first}")]
+    #[error("face {face} duplicates face {first}, {turn}")]
     DuplicateFace {
         /// The later face.
         face: FaceId,
         /// The first face with these vertices.
         first: FaceId,
+        /// Whether it runs the same way round as `first`.
+        turn: Turn,
     },
     /// An edge with only one face: the mesh is not closed.
     #[error("open edge {a}-{b}: only face {face} uses it")]
@@ -663,6 +701,7 @@ fn duplicates_among(mesh: &Mesh, faces: &[FaceId]) -> Vec<Defect> {
             std::collections::hash_map::Entry::Occupied(e) => found.push(Defect::DuplicateFace {
                 face,
                 first: *e.get(),
+                turn: Turn::of(mesh.faces[e.get().idx()], mesh.faces[face.idx()]),
             }),
             std::collections::hash_map::Entry::Vacant(e) => {
                 e.insert(face);
