@@ -274,6 +274,53 @@ fn critical_errors_exit_with_their_codes() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A slab's bottom split by a file's rounding, as `f32` exports leave
+/// it: cell 0 at z = 0, cell 2 at z = 2^-49, a sloped cell between (three
+/// cells along x, one along y). `--fit-critical` refuses the two flats by
+/// name with their exact distance and suggests snapping; snapping to a
+/// micron, as suggested, makes them one flat and the plan is made.
+#[test]
+fn flats_a_rounding_split_are_named_and_merge_when_snapped() {
+    let slab = common::Slab {
+        nx: 3,
+        ny: 1,
+        bot: vec![0; 8],
+        thick: vec![1; 8],
+        diag: vec![false; 3],
+        rot: 0,
+    };
+    let mut m = slab.mesh();
+    for p in &mut m.positions {
+        if p[2] == 0.0 && p[0] >= 2.0 {
+            p[2] = 2f64.powi(-49);
+        }
+    }
+    let mut text = format!("OFF\n{} {} 0\n", m.positions.len(), m.faces.len());
+    for [x, y, z] in &m.positions {
+        text += &format!("{x:?} {y:?} {z:?}\n");
+    }
+    for [a, b, c] in &m.faces {
+        text += &format!("3 {} {} {}\n", a.0, b.0, c.0);
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("split_bottom.off");
+    std::fs::write(&path, text).unwrap();
+    let file = path.to_str().unwrap();
+    let fit = ["--layer-height", "0.2", "--fit-critical"];
+    let (code, _, err) = wmslice(&[&["critical", file][..], &fit].concat());
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains(
+            "z = 0 and z = 1/562949953421312 are 1/562949953421312 apart (~1.7763568394002505e-15)"
+        ),
+        "{err}"
+    );
+    assert!(err.contains("snap the mesh: --snap Q"), "{err}");
+    let (code, out, err) = wmslice(&[&["critical", file, "--snap", "1e-6"][..], &fit].concat());
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("fitted plan: 5 layers"), "{out}");
+}
+
 /// The SVG holds one circle per node plus the seven legend entries and
 /// one path per arc.
 #[test]
