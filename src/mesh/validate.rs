@@ -68,7 +68,9 @@ pub enum Turn {
 }
 
 impl Turn {
-    /// How face `b` runs against face `a`, both on the same three vertices.
+    /// How face `b` runs against face `a`, both on the same three vertices
+    /// (so `b[0]` is one of `a`'s): the same way when `b[1]` follows
+    /// `b[0]` in `a` too.
     fn of(a: [VertexId; 3], b: [VertexId; 3]) -> Turn {
         let i = a.iter().position(|&v| v == b[0]).unwrap_or(0);
         if a[(i + 1) % 3] == b[1] {
