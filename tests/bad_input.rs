@@ -495,6 +495,44 @@ fn usage_and_output_errors_have_their_codes_and_leave_no_file() {
         "{err}"
     );
     assert!(!out.exists());
+    // A negative layer height or snap grid reaches the check that names
+    // it (not the argument parser, which took `-1` for an option): 2.
+    for (args, said) in [
+        (
+            &["slice", "unit_cube", "--layer-height", "-1"][..],
+            "layer height must be positive, got -1",
+        ),
+        (
+            &["critical", "unit_cube", "--layer-height", "-1/5"][..],
+            "layer height must be positive, got -1/5",
+        ),
+        (
+            &["slice", "unit_cube", "--snap", "-1e-3", "--at", "1/2"][..],
+            "snap grid must be positive, got -1/1000",
+        ),
+        (
+            &["check", "unit_cube", "--snap", "0"][..],
+            "snap grid must be positive, got 0",
+        ),
+    ] {
+        let (code, _, err) = wmslice(args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(said), "{args:?}: {err}");
+    }
+    // A levels file with comments and blank lines only: 2, named, even
+    // beside --at (a wrong path or a failed export, not a plan).
+    let levels = dir.path().join("levels.txt");
+    std::fs::write(&levels, "# heights\n\n   # none yet\n").unwrap();
+    let (code, _, err) = wmslice(&[
+        "slice",
+        "unit_cube",
+        "--at",
+        "1/2",
+        "--levels-file",
+        s(&levels),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("levels.txt holds no level"), "{err}");
     // An output under a regular file: 5.
     let blocker = dir.path().join("file");
     std::fs::write(&blocker, b"x").unwrap();

@@ -46,7 +46,7 @@ pub struct CriticalArgs {
     /// A mesh file (STL, OBJ, OFF, PLY, 3MF) or a built-in dataset name.
     pub mesh: String,
     /// Snap coordinates to the grid Q (decimal or p/q) first.
-    #[arg(long, value_name = "Q")]
+    #[arg(long, value_name = "Q", allow_hyphen_values = true)]
     pub snap: Option<String>,
     #[command(flatten)]
     pub repairs: RepairArgs,
@@ -58,7 +58,7 @@ pub struct CriticalArgs {
     pub output: Option<PathBuf>,
     /// Layer height H: audit the uniform plan (which layer prints each
     /// flat, how far off), or with --fit-critical, fit a plan to the flats.
-    #[arg(long, value_name = "H")]
+    #[arg(long, value_name = "H", allow_hyphen_values = true)]
     pub layer_height: Option<String>,
     /// Fit layers between H/2 and 3H/2 thick with every flat on a boundary.
     #[arg(long, requires = "layer_height")]
@@ -93,7 +93,7 @@ pub struct VerifyArgs {
     /// The result: a `wmslice-levelset` JSON written with `--exact`.
     pub result: PathBuf,
     /// Snap grid the result was computed with (must match its header).
-    #[arg(long, value_name = "Q")]
+    #[arg(long, value_name = "Q", allow_hyphen_values = true)]
     pub snap: Option<String>,
 }
 
@@ -152,7 +152,7 @@ pub struct CheckArgs {
     #[arg(long)]
     pub json: bool,
     /// Snap coordinates to the grid Q first (decimal or p/q).
-    #[arg(long, value_name = "Q")]
+    #[arg(long, value_name = "Q", allow_hyphen_values = true)]
     pub snap: Option<String>,
     #[command(flatten)]
     pub repairs: RepairArgs,
@@ -187,7 +187,7 @@ pub struct SliceArgs {
     #[arg(long, value_name = "FILE")]
     pub levels_file: Option<PathBuf>,
     /// Uniform layers of height H (exact: 0.2 is 1/5).
-    #[arg(long, value_name = "H")]
+    #[arg(long, value_name = "H", allow_hyphen_values = true)]
     pub layer_height: Option<String>,
     /// First uniform plane (default: lowest vertex + H/2, mid-layer).
     #[arg(
@@ -213,7 +213,7 @@ pub struct SliceArgs {
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
     /// Snap coordinates to the grid Q (decimal or p/q) before slicing.
-    #[arg(long, value_name = "Q")]
+    #[arg(long, value_name = "Q", allow_hyphen_values = true)]
     pub snap: Option<String>,
     #[command(flatten)]
     pub repairs: RepairArgs,

@@ -20,6 +20,7 @@ use wmslice::mesh::io::{load_bytes_exact, ExactPositions, MeshFormat};
 use wmslice::mesh::prepare::{
     is_collapsed, prepare_exact_with, CoincidentVertices, PrepareError, Repairs, SnapStats,
 };
+use wmslice::mesh::snap::SnapError;
 use wmslice::output::json::MeshHeader;
 use wmslice::{FaceId, Mesh};
 
@@ -121,6 +122,11 @@ pub fn load_input(spec: &str, snap_arg: Option<&str>, repairs: Repairs) -> Resul
     let p = prepare_exact_with(mesh, &exact, q.as_ref(), repairs).map_err(|e| match e {
         PrepareError::NotDoubles(e) => Failure {
             code: ExitCode::Input,
+            error: e.into(),
+        },
+        // A grid of zero or below is the argument's fault, not the mesh's.
+        PrepareError::Snap(e @ SnapError::NonPositive(_)) => Failure {
+            code: ExitCode::Usage,
             error: e.into(),
         },
         PrepareError::Snap(e) => Failure {

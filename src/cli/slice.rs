@@ -33,6 +33,7 @@ pub fn parse_levels(a: &SliceArgs) -> Result<Vec<Rat>, Failure> {
         let text = std::fs::read_to_string(f)
             .map_err(|e| anyhow!("cannot read {}: {e}", f.display()))
             .tag(ExitCode::Input)?;
+        let given = levels.len();
         for (i, line) in text.lines().enumerate() {
             let t = line.split('#').next().unwrap_or("").trim();
             if t.is_empty() {
@@ -41,6 +42,14 @@ pub fn parse_levels(a: &SliceArgs) -> Result<Vec<Rat>, Failure> {
             levels.push(
                 parse_rational(t).map_err(|e| usage(format!("{}:{}: {e}", f.display(), i + 1)))?,
             );
+        }
+        // An empty file is a mistake (a wrong path, a failed export), not
+        // a plan: refused even beside --at.
+        if levels.len() == given {
+            return Err(usage(format!(
+                "{} holds no level (one per line, as 0.6, 3/5 or -1e-3; # comments)",
+                f.display()
+            )));
         }
     }
     Ok(levels)
