@@ -45,20 +45,7 @@ for m in "$@"; do
     if ! "$wm" critical "$m" "${snap[@]}" "${drop[@]}" --format json -o "$tmp/critical.json" 2> "$tmp/err"; then
         echo "FAILED   $n: critical: $(head -c 300 "$tmp/err")"; failed=1; continue
     fi
-    python3 - "$tmp/critical.json" "$max" > "$tmp/levels" <<'PY'
-import json, sys
-from fractions import Fraction
-zs = [Fraction(c["z"]) for c in json.load(open(sys.argv[1]))["critical"]]
-n = int(sys.argv[2])
-if len(zs) > n:
-    zs = [zs[i * (len(zs) - 1) // (n - 1)] for i in range(n)] if n > 1 else zs[:1]
-out = []
-for i, z in enumerate(zs):
-    out.append(z)
-    if i + 1 < len(zs):
-        out.append((z + zs[i + 1]) / 2)
-print("\n".join(f"{z.numerator}/{z.denominator}" for z in out))
-PY
+    python3 "$root/scripts/critical_levels.py" "$tmp/critical.json" "$max" > "$tmp/levels"
     levels=$(wc -l < "$tmp/levels")
     if [ "$levels" = 0 ]; then echo "skipped  $n: no critical height"; continue; fi
     if ! "$wm" slice "$m" "${snap[@]}" "${drop[@]}" --levels-file "$tmp/levels" --exact --format json \

@@ -19,10 +19,11 @@ import os
 import subprocess
 import sys
 import tempfile
-from fractions import Fraction
 
 import trimesh
 import wmslice
+
+import critical_levels
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -32,15 +33,7 @@ def levels_of(binary, mesh, most):
     out = subprocess.run([binary, "critical", mesh, "--format", "json"], capture_output=True, text=True)
     if out.returncode != 0:
         return None
-    zs = [Fraction(c["z"]) for c in json.loads(out.stdout)["critical"]]
-    if len(zs) > most:
-        zs = [zs[i * (len(zs) - 1) // (most - 1)] for i in range(most)] if most > 1 else zs[:1]
-    levels = []
-    for i, z in enumerate(zs):
-        levels.append(z)
-        if i + 1 < len(zs):
-            levels.append((z + zs[i + 1]) / 2)
-    return levels
+    return critical_levels.levels(json.loads(out.stdout), most)
 
 
 def main():
