@@ -49,6 +49,10 @@ pub enum ExitCode {
     Output = 5,
     /// `verify` found the result wrong.
     Verification = 6,
+    /// Stopped from outside (Ctrl-C, `SIGTERM`, `SIGHUP`) before the end;
+    /// the output being written is removed (128 + `SIGINT`, as shells
+    /// report an interrupted command).
+    Interrupted = 130,
 }
 
 /// The error's own message only: every error of the library and of this
@@ -78,6 +82,20 @@ impl<T, E: Into<anyhow::Error>> Tag<T> for Result<T, E> {
 
 /// Runs the program and returns its exit code.
 pub fn run() -> i32 {
+    // On Ctrl-C, SIGTERM or SIGHUP: remove the output being written, say
+    // so, and stop. The handler runs on a thread of its own, not in the
+    // signal's context. Without it (it could not be set) a stopped run
+    // may leave a `.NAME.XXXXXX.partial` file, never a partial NAME.
+    let _ = ctrlc::set_handler(|| {
+        let removed = wmslice::output::atomic::remove_unfinished();
+        let what = if removed == 0 {
+            String::new()
+        } else {
+            format!(": the unfinished output was removed ({removed} file(s))")
+        };
+        eprintln!("\ninterrupted{what}");
+        std::process::exit(ExitCode::Interrupted as i32);
+    });
     let cli = match args::Cli::try_parse() {
         Ok(c) => c,
         Err(e) => {

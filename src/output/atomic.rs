@@ -15,7 +15,47 @@
 //! the `fsync` does not wait for all of it at the end.
 
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// The temporary files being written now, in the order they were started:
+/// what [`remove_unfinished`] removes.
+static UNFINISHED: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Removes every output still being written (the temporary files of
+/// uncommitted [`AtomicFile`]s) and returns how many it removed. For a
+/// program stopped from outside (Ctrl-C, `SIGTERM`): it calls this and
+/// exits, and leaves no unfinished file behind. A file committed at the
+/// same moment stays whole: its temporary is already renamed, or the
+/// rename fails.
+pub fn remove_unfinished() -> usize {
+    let paths = std::mem::take(&mut *UNFINISHED.lock().unwrap_or_else(|e| e.into_inner()));
+    paths
+        .iter()
+        .filter(|p| std::fs::remove_file(p).is_ok())
+        .count()
+}
+
+/// A temporary file's entry in [`UNFINISHED`], removed when it drops
+/// (committed or abandoned).
+struct Unfinished(PathBuf);
+
+impl Unfinished {
+    fn new(path: &Path) -> Self {
+        let mut list = UNFINISHED.lock().unwrap_or_else(|e| e.into_inner());
+        list.push(path.to_path_buf());
+        Unfinished(path.to_path_buf())
+    }
+}
+
+impl Drop for Unfinished {
+    fn drop(&mut self) {
+        let mut list = UNFINISHED.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(i) = list.iter().position(|p| *p == self.0) {
+            list.swap_remove(i);
+        }
+    }
+}
 
 /// Writes `bytes` to `path` atomically, creating parent directories. On
 /// any error no partial file is left behind.
@@ -44,14 +84,17 @@ fn special_target(path: &Path) -> std::io::Result<Option<std::fs::File>> {
 pub struct AtomicFile(Target);
 
 enum Target {
-    Temporary(TempTarget),
+    Temporary(Box<TempTarget>),
     InPlace(std::fs::File),
 }
 
 /// The temporary file and where it goes.
 struct TempTarget {
     tmp: tempfile::NamedTempFile,
-    path: std::path::PathBuf,
+    path: PathBuf,
+    /// Listed until committed or dropped (declared after `tmp`, dropped
+    /// after it: listed while the file exists).
+    _unfinished: Unfinished,
     /// Bytes written so far.
     written: u64,
     /// Bytes already handed to the disk (see [`start_writeback`]).
@@ -66,7 +109,7 @@ impl AtomicFile {
         if let Some(f) = special_target(path)? {
             return Ok(AtomicFile(Target::InPlace(f)));
         }
-        TempTarget::create(path).map(|t| AtomicFile(Target::Temporary(t)))
+        TempTarget::create(path).map(|t| AtomicFile(Target::Temporary(Box::new(t))))
     }
 
     /// Flushes and renames the file into place, readable by others like a
@@ -101,9 +144,25 @@ impl TempTarget {
             _ => Path::new("."),
         };
         std::fs::create_dir_all(dir)?;
-        let tmp = tempfile::NamedTempFile::new_in(dir)?;
+        // `.NAME.XXXXXX.partial`: a file left by a killed run says what it
+        // was. NAME cut to at most 100 bytes: a target name near the file
+        // system's limit (255 bytes) must not make the temporary's too long.
+        let mut name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let cut = (0..=name.len().min(100))
+            .rev()
+            .find(|&i| name.is_char_boundary(i))
+            .unwrap_or(0);
+        name.truncate(cut);
+        let tmp = tempfile::Builder::new()
+            .prefix(&format!(".{name}."))
+            .suffix(".partial")
+            .tempfile_in(dir)?;
         let direct = direct::start(tmp.as_file());
         Ok(TempTarget {
+            _unfinished: Unfinished::new(tmp.path()),
             tmp,
             path: path.to_path_buf(),
             written: 0,
@@ -526,6 +585,34 @@ mod tests {
             f.commit().unwrap();
             assert_eq!(std::fs::read(&path).unwrap(), bytes, "size {size}");
         }
+    }
+
+    /// The temporary file is named after the target, cut so that a
+    /// target name at the file system's limit (255 bytes, here of 2- and
+    /// 4-byte characters) still has a temporary file.
+    #[test]
+    fn names_at_the_length_limit_are_written() {
+        let dir = tempfile::tempdir().unwrap();
+        for name in [
+            "a".repeat(250) + ".json",
+            "é".repeat(125) + ".j",
+            "😀".repeat(63),
+        ] {
+            assert!(name.len() <= 255 && name.len() > 250, "{}", name.len());
+            let path = dir.path().join(&name);
+            let mut f = AtomicFile::create(&path).unwrap();
+            let listed: Vec<String> = std::fs::read_dir(dir.path())
+                .unwrap()
+                .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+                .filter(|n| n.ends_with(".partial"))
+                .collect();
+            assert_eq!(listed.len(), 1, "{listed:?}");
+            assert!(listed[0].starts_with(&format!(".{}", &name[..40])));
+            f.write_all(b"whole").unwrap();
+            f.commit().unwrap();
+            assert_eq!(std::fs::read(&path).unwrap(), b"whole");
+        }
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 3);
     }
 
     #[test]
