@@ -10,7 +10,7 @@ use wmslice::datasets;
 use wmslice::exact::rational::Rat;
 use wmslice::levelset::check::vertex_heights;
 use wmslice::output::json::{to_json, Exactness, MeshHeader};
-use wmslice::verify::verify;
+use wmslice::verify::{outline, verify, Verifier};
 use wmslice::{Mesh, Slicer};
 
 /// Every vertex height of `mesh` and the midpoints between them.
@@ -49,6 +49,27 @@ fn slice_and_verify(name: &str, mesh: &Mesh, unit: Option<&Rat>, levels: &[Rat])
             .collect::<Vec<_>>()
             .join("\n")
     );
+}
+
+/// The outline counts a result's levels, and the verifier reports each
+/// one done, in order, once (what `wmslice verify`'s progress bar shows).
+#[test]
+fn the_outline_counts_the_levels_the_verifier_reports_done() {
+    let mesh = datasets::by_name("double_torus").unwrap().build();
+    let levels = heights_and_midpoints(&mesh);
+    let slicer = Slicer::new(&mesh).unwrap();
+    let sets: Vec<_> = levels.iter().map(|c| slicer.slice_at(c).unwrap()).collect();
+    let text = to_json(&MeshHeader::new(&mesh, None), &sets, Exactness::WithExact);
+    let (header, count) = outline(&text).unwrap();
+    assert_eq!(count, levels.len());
+    assert_eq!(header.faces, mesh.num_faces() as u64);
+    let mut done = Vec::new();
+    let report = Verifier::new(&mesh, None)
+        .unwrap()
+        .verify_with(&text, |n| done.push(n))
+        .unwrap();
+    assert!(report.passed(), "{}", report.summary());
+    assert_eq!(done, (1..=count).collect::<Vec<_>>());
 }
 
 #[test]

@@ -95,6 +95,9 @@ pub struct VerifyArgs {
     /// Snap grid the result was computed with (must match its header).
     #[arg(long, value_name = "Q", allow_hyphen_values = true)]
     pub snap: Option<String>,
+    /// No progress output.
+    #[arg(long)]
+    pub quiet: bool,
 }
 
 /// Which loops go to a Common Layer Interface file.

@@ -13,6 +13,7 @@ mod critical;
 mod demo;
 mod gen;
 mod input;
+mod progress;
 mod render;
 mod slice;
 mod verify;

@@ -3,10 +3,10 @@
 
 use super::args::{Format, SliceArgs};
 use super::input::{load_input, Input};
+use super::progress::{progress, step};
 use super::{emit, slice_error, usage, worker_pool, ExitCode, Failure, Tag};
 use anyhow::anyhow;
-use indicatif::{ProgressBar, ProgressStyle};
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::time::{Duration, Instant};
 use wmslice::critical::{
     self,
@@ -123,32 +123,6 @@ fn output_error(e: std::io::Error) -> Failure {
         code: ExitCode::Output,
         error: anyhow!("cannot write the output: {e}"),
     }
-}
-
-/// A progress bar on stderr for long runs; hidden when stderr is not a
-/// terminal or with `--quiet`.
-fn progress(len: usize, quiet: bool) -> ProgressBar {
-    if quiet || len < 2 || !std::io::stderr().is_terminal() {
-        return ProgressBar::hidden();
-    }
-    let bar = ProgressBar::new(len as u64);
-    if let Ok(style) =
-        ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} levels ({eta})")
-    {
-        bar.set_style(style);
-    }
-    bar
-}
-
-/// A spinner naming a long step before the levels (reading, welding,
-/// validating a large mesh takes seconds); hidden like the bar.
-fn step(message: &'static str, quiet: bool) -> ProgressBar {
-    if quiet || !std::io::stderr().is_terminal() {
-        return ProgressBar::hidden();
-    }
-    let spinner = ProgressBar::new_spinner().with_message(message);
-    spinner.enable_steady_tick(std::time::Duration::from_millis(120));
-    spinner
 }
 
 fn sweep_error(e: SweepError<std::io::Error>) -> Failure {

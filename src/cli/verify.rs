@@ -14,15 +14,17 @@
 
 use super::args::VerifyArgs;
 use super::input::load_input;
+use super::progress::{progress, step};
 use super::{ExitCode, Failure, Tag};
 use crate::say;
 use anyhow::anyhow;
 use wmslice::mesh::prepare::Repairs;
-use wmslice::verify::{read_header, verify, VerifyError};
+use wmslice::verify::{outline, Verifier, VerifyError};
 
 /// Runs `verify`.
 pub fn run(a: VerifyArgs) -> Result<(), Failure> {
     let shown = a.result.display();
+    let reading = step("reading the result", a.quiet);
     let bytes = std::fs::read(&a.result)
         .map_err(|e| anyhow!("cannot read {shown}: {e}"))
         .tag(ExitCode::Input)?;
@@ -36,13 +38,21 @@ pub fn run(a: VerifyArgs) -> Result<(), Failure> {
         },
         error: anyhow!("{shown}: {e}"),
     };
-    let header = read_header(&text).map_err(unreadable)?;
+    let (header, levels) = outline(&text).map_err(unreadable)?;
+    reading.finish_and_clear();
     let snap = a.snap.clone().or(header.snap);
     // Vertices are welded and collapsed faces removed as the header says
     // the slicer did; the mesh hash then tells whether the same went.
     let repairs = Repairs::from_flags(header.welded.is_some(), header.dropped_collapsed.is_some());
+    let validating = step("reading and validating the mesh", a.quiet);
     let input = load_input(&a.mesh, snap.as_deref(), repairs)?;
-    let report = verify(&input.mesh, input.unit.as_ref(), &text).map_err(unreadable)?;
+    let verifier = Verifier::new(&input.mesh, input.unit.as_ref()).map_err(unreadable)?;
+    validating.finish_and_clear();
+    let bar = progress(levels, a.quiet);
+    let report = verifier
+        .verify_with(&text, |n| bar.set_position(n as u64))
+        .map_err(unreadable)?;
+    bar.finish_and_clear();
     if report.passed() {
         say!("{shown}: {}", report.summary());
         return Ok(());

@@ -113,6 +113,16 @@ impl<'m> Verifier<'m> {
 
     /// Verifies one result text, as [`verify`] does.
     pub fn verify(&self, text: &str) -> Result<Report, VerifyError> {
+        self.verify_with(text, |_| {})
+    }
+
+    /// [`Verifier::verify`], calling `done(n)` after the `n`-th level is
+    /// checked (for progress: [`outline`] gives the number of levels).
+    pub fn verify_with(
+        &self,
+        text: &str,
+        mut done: impl FnMut(usize),
+    ) -> Result<Report, VerifyError> {
         let mut report = Report::default();
         let root = json::parse_streaming(text, "levels", |i, v| -> Result<(), VerifyError> {
             let l = doc::level(v, i)?;
@@ -123,6 +133,7 @@ impl<'m> Verifier<'m> {
                 &mut report.violations,
                 &mut report.checked,
             );
+            done(i + 1);
             Ok(())
         })?;
         let header = doc::header(&root)?;
@@ -136,8 +147,17 @@ impl<'m> Verifier<'m> {
 /// The header of a result text (to learn its snap grid before loading the
 /// mesh); the levels are read for syntax only, one at a time.
 pub fn read_header(text: &str) -> Result<doc::HeaderDoc, VerifyError> {
-    let root = json::parse_streaming(text, "levels", |_, _| Ok::<(), VerifyError>(()))?;
-    Ok(doc::header(&root)?)
+    outline(text).map(|(header, _)| header)
+}
+
+/// [`read_header`], and how many levels the text holds.
+pub fn outline(text: &str) -> Result<(doc::HeaderDoc, usize), VerifyError> {
+    let mut levels = 0;
+    let root = json::parse_streaming(text, "levels", |i, _| {
+        levels = i + 1;
+        Ok::<(), VerifyError>(())
+    })?;
+    Ok((doc::header(&root)?, levels))
 }
 
 /// As [`verify`], for an already parsed document.
