@@ -22,7 +22,7 @@ use wmslice::ids::{FaceId, VertexId};
 use wmslice::levelset::{LevelSet, Loop};
 use wmslice::mesh::flip::{repair_degenerate, Unflippable};
 use wmslice::mesh::io::ExactPositions;
-use wmslice::mesh::prepare::{prepare_exact_with, CollapsedFaces};
+use wmslice::mesh::prepare::{prepare_exact_with, CollapsedFaces, Repairs};
 use wmslice::mesh::validate::{validate, Defect};
 use wmslice::nest::Role;
 use wmslice::{Mesh, Slicer};
@@ -239,7 +239,9 @@ fn repair_is_the_same_on_every_thread_count() {
     }
 }
 
-/// Two vertices at one position: no flip removes the face.
+/// Two vertices at one position: no flip removes the face. The message
+/// names the remedy, and the remedy works: welded, with the faces that
+/// then repeat a vertex dropped, the mesh is the cube again.
 #[test]
 fn coincident_vertices_are_refused_by_name() {
     let mesh = datasets::by_name("unit_cube").unwrap().build();
@@ -249,12 +251,28 @@ fn coincident_vertices_are_refused_by_name() {
     let r = repair_degenerate(&got);
     assert!(r.flips.is_empty());
     let report = validate(&r.mesh);
+    let named = report.defects.iter().find(|d| {
+        matches!(d,
+        Defect::DegenerateFace { why: Unflippable::CoincidentVertices { a, b }, .. }
+            if [*a, *b].contains(&p) && [*a, *b].contains(&VertexId(8)))
+    });
+    let named = named.unwrap_or_else(|| panic!("{report}"));
     assert!(
-        report.defects.iter().any(|d| matches!(d,
-            Defect::DegenerateFace { why: Unflippable::CoincidentVertices { a, b }, .. }
-                if [*a, *b].contains(&p) && [*a, *b].contains(&VertexId(8)))),
-        "{report}"
+        named
+            .to_string()
+            .contains("--weld merges them, and --drop-collapsed"),
+        "{named}"
     );
+    let repaired = prepare_exact_with(
+        got,
+        &ExactPositions::default(),
+        None,
+        Repairs::from_flags(true, true),
+    )
+    .unwrap();
+    let report = validate(&repaired.mesh);
+    assert!(report.is_accepted(), "{report}");
+    assert_eq!(repaired.mesh.num_faces(), mesh.num_faces());
 }
 
 /// Two collinear faces on the same three vertices: the face beyond is the

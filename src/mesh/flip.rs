@@ -141,7 +141,7 @@ impl fmt::Display for Unflippable {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
             Unflippable::CoincidentVertices { a, b } => {
-                write!(f, "vertices {a} and {b} are at one position, so no edge flip removes it")
+                write!(f, "vertices {a} and {b} are at one position, so no edge flip removes it (--weld merges them, and --drop-collapsed then removes the faces that repeat a vertex)")
             }
             Unflippable::NoFaceBeyond { apex, edge: [a, b] } => write!(
                 f,
