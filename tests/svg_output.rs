@@ -12,7 +12,7 @@ use std::collections::HashMap;
 use std::path::Path;
 use wmslice::exact::{parse_rational, Rat};
 use wmslice::output::html::{viewer, Counts, ViewerLayer, ViewerOptions};
-use wmslice::output::svg::{level_file_name, level_svg, Scene, SvgOptions};
+use wmslice::output::svg::{is_level_file_name, level_file_name, level_svg, Scene, SvgOptions};
 use wmslice::{datasets, LevelSet, Slicer};
 
 /// One parsed element.
@@ -451,6 +451,77 @@ fn slice_writes_one_svg_per_level_sorted_into_a_new_directory() {
     let top = parse(&std::fs::read_to_string(dir.join("layer-0002_z=1.svg")).unwrap());
     assert_eq!(count(&top, &["f", "up"]), 1);
     let _ = std::fs::remove_dir_all(tmp("dir"));
+}
+
+/// The names a level's SVG gets are recognised, and names a user might
+/// give are not.
+#[test]
+fn level_file_names_are_told_from_other_names() {
+    let tiny = parse_rational("-7.25e-301").unwrap() / Rat::from_integer(3.into());
+    for (i, z) in [(0, parse_rational("1/4").unwrap()), (12_345, tiny)] {
+        assert!(is_level_file_name(&level_file_name(i, &z)), "{i}");
+    }
+    for other in [
+        "layer-notes.svg",
+        "layer-12_z=1.svg",
+        "layer-0001_z=.svg",
+        "layer-0001_z=1_2.svg.bak",
+        "layer-0001-z=1.svg",
+        "notes.txt",
+        "Layer-0001_z=1.svg",
+    ] {
+        assert!(!is_level_file_name(other), "{other}");
+    }
+}
+
+/// Slicing again into a directory leaves this run's levels in it and no
+/// others: the earlier run's level files go, files of other names stay.
+#[test]
+fn slicing_again_into_a_directory_removes_the_earlier_levels_only() {
+    let dir = tmp("again");
+    let d = dir.to_str().unwrap();
+    let svgs = |args: &[&str]| {
+        let mut all = vec!["slice", "unit_cube", "--format", "svg", "-o", d];
+        all.extend_from_slice(args);
+        run(&all)
+    };
+    let (code, _, err) = svgs(&["--layer-height", "0.1"]);
+    assert_eq!(code, 0, "{err}");
+    let names = || {
+        let mut n: Vec<String> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        n.sort();
+        n
+    };
+    assert_eq!(names().len(), 10);
+    for kept in ["notes.txt", "layer-notes.svg"] {
+        std::fs::write(dir.join(kept), "mine").unwrap();
+    }
+    let (code, _, err) = svgs(&["--at", "1/4", "--at", "3/4"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("removed 10 level SVG files of an earlier run"),
+        "{err}"
+    );
+    assert_eq!(
+        names(),
+        [
+            "layer-0000_z=1_4.svg",
+            "layer-0001_z=3_4.svg",
+            "layer-notes.svg",
+            "notes.txt"
+        ]
+    );
+    // One level into the directory: the same.
+    let (code, _, err) = svgs(&["--at", "1/2"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        names(),
+        ["layer-0000_z=1_2.svg", "layer-notes.svg", "notes.txt"]
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

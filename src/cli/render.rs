@@ -4,7 +4,9 @@
 //!
 //! Every rendered format lists the levels in ascending exact order, equal
 //! levels once. `svg`: one file per level into the directory `-o DIR`
-//! (created as needed), named `layer-0003_z=3_5.svg`; with a single level,
+//! (created as needed), named `layer-0003_z=3_5.svg`, after which the
+//! directory's level files of an earlier run are removed (other files are
+//! left alone); with a single level,
 //! `-o FILE` is the file itself (unless it is an existing directory or ends
 //! in `/`), and without `-o` the SVG goes to stdout. `html`: one file (or
 //! stdout). `cli`, `cli-binary`: one file (or stdout); `--side` picks L-
@@ -21,7 +23,7 @@ use wmslice::critical::CriticalReport;
 use wmslice::output::atomic::write_atomic;
 use wmslice::output::cli_layers::{self, CliOptions, Encoding, LoopChoice};
 use wmslice::output::html::{critical_marks, viewer, ViewerLayer, ViewerOptions};
-use wmslice::output::svg::{level_file_name, level_svg, Scene, SvgOptions};
+use wmslice::output::svg::{is_level_file_name, level_file_name, level_svg, Scene, SvgOptions};
 use wmslice::LevelSet;
 
 /// The name of what is sliced: a file's stem, or the dataset name.
@@ -188,7 +190,7 @@ fn write_svgs(
                 let f = p.join(level_file_name(0, &levels[0].level));
                 write_file(&f, svg.as_bytes())?;
                 note(a, || Some(format!("wrote {}", f.display())));
-                Ok(())
+                remove_earlier_levels(a, p, &[f])
             }
             Some(p) => {
                 write_file(p, svg.as_bytes())?;
@@ -233,5 +235,41 @@ fn write_svgs(
             dir.display()
         ))
     });
+    let written: Vec<PathBuf> = files.into_iter().map(|(p, _)| p).collect();
+    remove_earlier_levels(a, dir, &written)
+}
+
+/// Removes the level SVGs in `dir` that this run did not write (an
+/// earlier run's levels, named as [`level_file_name`] names them), so the
+/// directory holds this run's levels and no others; files of any other
+/// name are left alone. Done after every new file is in place.
+fn remove_earlier_levels(a: &SliceArgs, dir: &Path, written: &[PathBuf]) -> Result<(), Failure> {
+    let cannot = |e: std::io::Error| anyhow!("cannot tidy {}: {e}", dir.display());
+    let mut removed = 0usize;
+    for entry in std::fs::read_dir(dir)
+        .map_err(cannot)
+        .tag(ExitCode::Output)?
+    {
+        let path = entry.map_err(cannot).tag(ExitCode::Output)?.path();
+        let ours = path
+            .file_name()
+            .and_then(|n| n.to_str())
+            .is_some_and(is_level_file_name);
+        let new = written.iter().any(|w| w.file_name() == path.file_name());
+        if ours && path.is_file() && !new {
+            std::fs::remove_file(&path)
+                .map_err(|e| anyhow!("cannot remove {}: {e}", path.display()))
+                .tag(ExitCode::Output)?;
+            removed += 1;
+        }
+    }
+    if removed > 0 {
+        note(a, || {
+            Some(format!(
+                "removed {removed} level SVG files of an earlier run from {}",
+                dir.display()
+            ))
+        });
+    }
     Ok(())
 }

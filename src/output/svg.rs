@@ -638,3 +638,19 @@ pub fn level_file_name(index: usize, level: &Rat) -> String {
         format!("layer-{index:04}_z~{:e}.svg", rat_to_f64(level))
     }
 }
+
+/// Whether `name` has the form [`level_file_name`] gives (`layer-`, four
+/// or more digits, `_z=` or `_z~`, anything, `.svg`): what a directory of
+/// level SVGs holds from an earlier run, and nothing a user names
+/// otherwise.
+pub fn is_level_file_name(name: &str) -> bool {
+    let Some(rest) = name.strip_prefix("layer-") else {
+        return false;
+    };
+    let digits = rest.bytes().take_while(u8::is_ascii_digit).count();
+    let rest = &rest[digits..];
+    digits >= 4
+        && (rest.starts_with("_z=") || rest.starts_with("_z~"))
+        && rest.len() > ".svg".len() + 3
+        && rest.ends_with(".svg")
+}
