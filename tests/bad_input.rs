@@ -588,3 +588,37 @@ fn verify_against_an_invalid_mesh_exits_3() {
     assert_eq!(code, 3, "{err}");
     assert!(err.contains("open edge"), "{err}");
 }
+
+/// A part snapped to a grid as coarse as itself (a mesh in metres on a
+/// millimetre grid) loses every face with `--drop-collapsed`: the refusal
+/// says so, with the part's size, instead of "the mesh has no faces".
+#[test]
+fn a_grid_coarser_than_the_part_is_named_with_the_part_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let tiny = dir.path().join("tip.off");
+    let pos: Vec<[f64; 3]> = TETRA_POS.iter().map(|p| p.map(|c| c * 2e-4)).collect();
+    std::fs::write(&tiny, off(&pos, &TETRA)).unwrap();
+    for cmd in ["check", "slice"] {
+        let (code, _, err) = wmslice(
+            &[
+                cmd,
+                s(&tiny),
+                "--snap",
+                "0.001",
+                "--drop-collapsed",
+                "--at",
+                "0",
+            ][..if cmd == "check" { 5 } else { 7 }],
+        );
+        assert_eq!(code, 3, "{cmd}: {err}");
+        assert!(
+            err.contains(
+                "snapping to the grid 1/1000 collapsed every one of the 4 faces (--drop-collapsed removed them): the mesh spans 2.000e-4 x 2.000e-4 x 2.000e-4"
+            ),
+            "{cmd}: {err}"
+        );
+    }
+    // On a grid finer than the part, it is accepted.
+    let (code, _, err) = wmslice(&["check", s(&tiny), "--snap", "1e-6"]);
+    assert_eq!(code, 0, "{err}");
+}

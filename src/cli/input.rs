@@ -119,6 +119,7 @@ pub fn load_input(spec: &str, snap_arg: Option<&str>, repairs: Repairs) -> Resul
         });
     };
     let collapsed_before = collapsed_faces(&mesh);
+    let (faces_read, span) = (mesh.num_faces(), span(&mesh));
     let p = prepare_exact_with(mesh, &exact, q.as_ref(), repairs).map_err(|e| match e {
         PrepareError::NotDoubles(e) => Failure {
             code: ExitCode::Input,
@@ -148,6 +149,19 @@ pub fn load_input(spec: &str, snap_arg: Option<&str>, repairs: Repairs) -> Resul
             rat_to_f64(&s.max_move),
             s.merged
         ));
+    }
+    // Snapped to a grid about as coarse as the part (a mesh in metres on
+    // a grid meant for millimetres), every face collapsed and was dropped:
+    // say so rather than "the mesh has no faces".
+    if let (Some(s), 0, true) = (&p.snap, p.mesh.num_faces(), faces_read > 0) {
+        let [x, y, z] = span.map(|v| format!("{v:.3e}"));
+        return Err(Failure {
+            code: ExitCode::InvalidMesh,
+            error: anyhow!(
+                "snapping to the grid {} collapsed every one of the {faces_read} faces (--drop-collapsed removed them): the mesh spans {x} x {y} x {z}; choose a grid much finer than the mesh",
+                rat_to_string(&s.grid)
+            ),
+        });
     }
     let collapsed = collapsed_faces(&p.mesh);
     let made = collapsed.saturating_sub(collapsed_before);
@@ -187,6 +201,20 @@ pub fn load_input(spec: &str, snap_arg: Option<&str>, repairs: Repairs) -> Resul
         welded: p.welded,
         dropped,
     })
+}
+
+/// The extent of the mesh's vertices along x, y and z (rounded: for
+/// messages).
+fn span(mesh: &Mesh) -> [f64; 3] {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in &mesh.positions {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    std::array::from_fn(|k| if hi[k] >= lo[k] { hi[k] - lo[k] } else { 0.0 })
 }
 
 impl Input {
