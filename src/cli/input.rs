@@ -119,7 +119,11 @@ pub fn load_input(spec: &str, snap_arg: Option<&str>, repairs: Repairs) -> Resul
         });
     };
     let collapsed_before = collapsed_faces(&mesh);
-    let (faces_read, span) = (mesh.num_faces(), span(&mesh));
+    let faces_read = mesh.num_faces();
+    let span = mesh
+        .bounding_box()
+        .map(|[lo, hi]| std::array::from_fn::<_, 3, _>(|k| hi[k] - lo[k]))
+        .unwrap_or_default();
     let p = prepare_exact_with(mesh, &exact, q.as_ref(), repairs).map_err(|e| match e {
         PrepareError::NotDoubles(e) => Failure {
             code: ExitCode::Input,
@@ -201,20 +205,6 @@ pub fn load_input(spec: &str, snap_arg: Option<&str>, repairs: Repairs) -> Resul
         welded: p.welded,
         dropped,
     })
-}
-
-/// The extent of the mesh's vertices along x, y and z (rounded: for
-/// messages).
-fn span(mesh: &Mesh) -> [f64; 3] {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for p in &mesh.positions {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    std::array::from_fn(|k| if hi[k] >= lo[k] { hi[k] - lo[k] } else { 0.0 })
 }
 
 impl Input {

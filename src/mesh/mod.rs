@@ -49,6 +49,24 @@ impl Mesh {
         self.faces.len()
     }
 
+    /// The smallest and largest finite coordinate along x, y and z (exact:
+    /// stored values), or `None` without a finite vertex.
+    pub fn bounding_box(&self) -> Option<[[f64; 3]; 2]> {
+        let mut it = self
+            .positions
+            .iter()
+            .filter(|p| p.iter().all(|x| x.is_finite()));
+        let first = *it.next()?;
+        let mut bb = [first, first];
+        for p in it {
+            for k in 0..3 {
+                bb[0][k] = bb[0][k].min(p[k]);
+                bb[1][k] = bb[1][k].max(p[k]);
+            }
+        }
+        Some(bb)
+    }
+
     /// The position of a vertex (exact as stored).
     #[inline]
     pub fn pos(&self, v: VertexId) -> [f64; 3] {

@@ -460,7 +460,7 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
         }
     }
 
-    let bounding_box = bounding_box(mesh);
+    let bounding_box = mesh.bounding_box();
     let mut stats = Stats {
         vertices: nv,
         faces: mesh.num_faces(),
@@ -644,22 +644,6 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
         topology: closed_manifold.then_some(topo),
     };
     (report, volume_computed)
-}
-
-fn bounding_box(mesh: &Mesh) -> Option<[[f64; 3]; 2]> {
-    let mut it = mesh
-        .positions
-        .iter()
-        .filter(|p| p.iter().all(|x| x.is_finite()));
-    let first = *it.next()?;
-    let mut bb = [first, first];
-    for p in it {
-        for k in 0..3 {
-            bb[0][k] = bb[0][k].min(p[k]);
-            bb[1][k] = bb[1][k].max(p[k]);
-        }
-    }
-    Some(bb)
 }
 
 /// Faces with the same three vertices as an earlier face, in face order.
