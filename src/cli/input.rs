@@ -120,8 +120,11 @@ pub fn load_input(spec: &str, snap_arg: Option<&str>, repairs: Repairs) -> Resul
     };
     let collapsed_before = collapsed_faces(&mesh);
     let faces_read = mesh.num_faces();
-    let span = mesh
-        .bounding_box()
+    // The part's size, for the message of a grid that collapses it whole
+    // (only when snapping: a pass over every vertex).
+    let span = q
+        .as_ref()
+        .and_then(|_| mesh.bounding_box())
         .map(|[lo, hi]| std::array::from_fn::<_, 3, _>(|k| hi[k] - lo[k]))
         .unwrap_or_default();
     let p = prepare_exact_with(mesh, &exact, q.as_ref(), repairs).map_err(|e| match e {
