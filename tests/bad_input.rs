@@ -613,7 +613,7 @@ fn a_grid_coarser_than_the_part_is_named_with_the_part_size() {
         assert_eq!(code, 3, "{cmd}: {err}");
         assert!(
             err.contains(
-                "snapping to the grid 1/1000 collapsed every one of the 4 faces (--drop-collapsed removed them): the mesh spans 2.000e-4 x 2.000e-4 x 2.000e-4"
+                "snapping to the grid 1/1000 collapsed every one of the 4 faces (dropping the collapsed faces removed them all): the mesh spans 2.000e-4 x 2.000e-4 x 2.000e-4"
             ),
             "{cmd}: {err}"
         );

@@ -136,6 +136,9 @@ pub fn snap_error(py: Python<'_>, e: SnapError) -> PyErr {
         SnapError::OutOfRange { vertex, q } => {
             serde_json::json!({"kind": "snap_out_of_range", "vertex": vertex.0, "grid": q})
         }
+        SnapError::CollapsedEverything { q, faces, span } => {
+            serde_json::json!({"kind": "snap_collapsed_everything", "grid": q, "faces": faces, "span": span})
+        }
     };
     invalid_mesh(py, vec![(value, text, Severity::Error)], 0)
 }

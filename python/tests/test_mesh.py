@@ -243,6 +243,19 @@ def test_faces_snapping_collapses_are_dropped_when_asked():
     assert json.loads(back.to_json())["mesh"]["dropped_collapsed"] == 2
 
 
+def test_a_grid_coarser_than_the_part_is_named_with_its_size():
+    # A 0.2 mm tetrahedron in metres on a millimetre grid: every corner
+    # lands on the origin, every face collapses and is dropped.
+    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], float) * 2e-4
+    f = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    with pytest.raises(wmslice.InvalidMesh, match="much finer than the mesh") as e:
+        wmslice.Mesh(v, f, snap="1/1000", drop_collapsed=True)
+    assert e.value.defects[0]["kind"] == "snap_collapsed_everything"
+    assert e.value.defects[0]["faces"] == 4 and e.value.defects[0]["grid"] == "1/1000"
+    assert e.value.defects[0]["span"] == [2e-4, 2e-4, 2e-4]
+    assert wmslice.Mesh(v, f, snap="1/1000000", drop_collapsed=True).dropped == []
+
+
 def face_by_face_tetra():
     """The unit tetrahedron written with every face on its own three
     vertices (twelve; one copy of the origin with -0), and the tetrahedron

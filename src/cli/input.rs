@@ -119,14 +119,6 @@ pub fn load_input(spec: &str, snap_arg: Option<&str>, repairs: Repairs) -> Resul
         });
     };
     let collapsed_before = collapsed_faces(&mesh);
-    let faces_read = mesh.num_faces();
-    // The part's size, for the message of a grid that collapses it whole
-    // (only when snapping: a pass over every vertex).
-    let span = q
-        .as_ref()
-        .and_then(|_| mesh.bounding_box())
-        .map(|[lo, hi]| std::array::from_fn::<_, 3, _>(|k| hi[k] - lo[k]))
-        .unwrap_or_default();
     let p = prepare_exact_with(mesh, &exact, q.as_ref(), repairs).map_err(|e| match e {
         PrepareError::NotDoubles(e) => Failure {
             code: ExitCode::Input,
@@ -156,19 +148,6 @@ pub fn load_input(spec: &str, snap_arg: Option<&str>, repairs: Repairs) -> Resul
             rat_to_f64(&s.max_move),
             s.merged
         ));
-    }
-    // Snapped to a grid about as coarse as the part (a mesh in metres on
-    // a grid meant for millimetres), every face collapsed and was dropped:
-    // say so rather than "the mesh has no faces".
-    if let (Some(s), 0, true) = (&p.snap, p.mesh.num_faces(), faces_read > 0) {
-        let [x, y, z] = span.map(|v| format!("{v:.3e}"));
-        return Err(Failure {
-            code: ExitCode::InvalidMesh,
-            error: anyhow!(
-                "snapping to the grid {} collapsed every one of the {faces_read} faces (--drop-collapsed removed them): the mesh spans {x} x {y} x {z}; choose a grid much finer than the mesh",
-                rat_to_string(&s.grid)
-            ),
-        });
     }
     let collapsed = collapsed_faces(&p.mesh);
     let made = collapsed.saturating_sub(collapsed_before);

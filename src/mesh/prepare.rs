@@ -13,7 +13,7 @@
 //! through these steps, so the mesh hash in a result is that of the same
 //! mesh whichever one sliced it.
 
-use crate::exact::rational::Rat;
+use crate::exact::rational::{rat_to_string, Rat};
 use crate::ids::FaceId;
 use crate::mesh::flip::{repair_degenerate, Flip};
 use crate::mesh::io::{ExactPositions, LoadError};
@@ -216,6 +216,11 @@ fn on_grid(
     collapsed: CollapsedFaces,
 ) -> Result<Prepared, SnapError> {
     let s = snap_exact(&mesh, exact, q)?;
+    let faces = mesh.num_faces();
+    let span = mesh
+        .bounding_box()
+        .map(|[lo, hi]| std::array::from_fn(|k| hi[k] - lo[k]))
+        .unwrap_or_default();
     drop(mesh);
     let stats = SnapStats {
         grid: s.unit.clone(),
@@ -223,7 +228,15 @@ fn on_grid(
         max_move: s.max_move,
         merged: s.merged,
     };
-    Ok(repair(s.mesh, Some(s.unit), Some(stats), collapsed))
+    let prepared = repair(s.mesh, Some(s.unit), Some(stats), collapsed);
+    if faces > 0 && prepared.mesh.num_faces() == 0 {
+        return Err(SnapError::CollapsedEverything {
+            q: rat_to_string(q),
+            faces,
+            span,
+        });
+    }
+    Ok(prepared)
 }
 
 /// Whether a face uses one vertex twice.

@@ -20,7 +20,7 @@ use num_traits::{Signed, ToPrimitive, Zero};
 pub const MAX_GRID_INDEX: i64 = 1 << 53;
 
 /// Why snapping failed.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SnapError {
     /// The grid step is zero or negative.
     #[error("snap grid must be positive, got {0}")]
@@ -39,6 +39,19 @@ pub enum SnapError {
     /// More vertices than ids.
     #[error("too many vertices to snap: more than {MAX_ELEMENTS}")]
     TooManyVertices,
+    /// Every face collapsed on the grid and dropping collapsed faces removed
+    /// them all: a grid about as coarse as the part (a mesh in metres on a
+    /// grid meant for millimetres).
+    #[error("snapping to the grid {q} collapsed every one of the {faces} faces (dropping the collapsed faces removed them all): the mesh spans {:.3e} x {:.3e} x {:.3e}; choose a grid much finer than the mesh", .span[0], .span[1], .span[2])]
+    CollapsedEverything {
+        /// The grid, as `p/q`.
+        q: String,
+        /// The faces before snapping.
+        faces: usize,
+        /// The mesh's extent along x, y and z before snapping (rounded:
+        /// for the message).
+        span: [f64; 3],
+    },
 }
 
 /// A snapped mesh and what snapping did.
