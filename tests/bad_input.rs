@@ -622,3 +622,68 @@ fn a_grid_coarser_than_the_part_is_named_with_the_part_size() {
     let (code, _, err) = wmslice(&["check", s(&tiny), "--snap", "1e-6"]);
     assert_eq!(code, 0, "{err}");
 }
+
+/// Every command writing to a full disk (Linux's `/dev/full`, whose every
+/// write fails with ENOSPC), on stdout or through `-o`: exit 5 with the
+/// system's reason, never a panic (Rust's `println!` panics on such a
+/// write) and never success with nothing written.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_full_disk_is_an_output_error_for_every_command() {
+    let dir = tempfile::tempdir().unwrap();
+    let result = dir.path().join("cube.json");
+    let (code, _, err) = wmslice(&[
+        "slice",
+        "unit_cube",
+        "--at",
+        "1/2",
+        "--format",
+        "json",
+        "--exact",
+        "-o",
+        s(&result),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let to_stdout: &[&[&str]] = &[
+        &["--help"],
+        &["--version"],
+        &["slice", "--help"],
+        &["demo"],
+        &["gen", "--list"],
+        &["check", "unit_cube"],
+        &["critical", "unit_cube"],
+        &["critical", "unit_cube", "--format", "json"],
+        &["slice", "unit_cube", "--at", "1/2"],
+        &["slice", "unit_cube", "--at", "1/2", "--format", "json"],
+        &["slice", "unit_cube", "--at", "1/2", "--format", "cli"],
+        &["slice", "unit_cube", "--at", "1/2", "--format", "html"],
+        &["verify", "unit_cube", s(&result)],
+    ];
+    for args in to_stdout {
+        let full = std::fs::File::create("/dev/full").unwrap();
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_wmslice"))
+            .args(*args)
+            .stdout(full)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(5), "{args:?}: {err}");
+        assert!(err.contains("No space left on device"), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+    }
+    for format in ["json", "svg", "html", "cli", "cli-binary"] {
+        let args = [
+            "slice",
+            "unit_cube",
+            "--at",
+            "1/2",
+            "--format",
+            format,
+            "-o",
+            "/dev/full",
+        ];
+        let (code, _, err) = wmslice(&args);
+        assert_eq!(code, 5, "{format}: {err}");
+        assert!(err.contains("No space left on device"), "{format}: {err}");
+    }
+}

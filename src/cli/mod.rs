@@ -100,11 +100,17 @@ pub fn run() -> i32 {
     let cli = match args::Cli::try_parse() {
         Ok(c) => c,
         Err(e) => {
-            let _ = e.print();
-            return if e.use_stderr() {
-                ExitCode::Usage as i32
-            } else {
-                0
+            let printed = e.print();
+            if e.use_stderr() {
+                return ExitCode::Usage as i32;
+            }
+            // --help and --version: their text is the output.
+            return match printed {
+                Ok(()) => 0,
+                Err(err) => {
+                    eprintln!("error: cannot write to stdout: {err}");
+                    ExitCode::Output as i32
+                }
             };
         }
     };
