@@ -104,9 +104,11 @@ pub fn run() -> i32 {
             if e.use_stderr() {
                 return ExitCode::Usage as i32;
             }
-            // --help and --version: their text is the output.
+            // --help and --version: their text is the output (a reader
+            // that stopped early is not an error, as for every command).
             return match printed {
                 Ok(()) => 0,
+                Err(err) if err.kind() == std::io::ErrorKind::BrokenPipe => 0,
                 Err(err) => {
                     eprintln!("error: cannot write to stdout: {err}");
                     ExitCode::Output as i32
