@@ -3,6 +3,7 @@
 
 use super::args::CheckArgs;
 use super::input::load_input;
+use super::progress::step;
 use super::{ExitCode, Failure};
 use crate::say;
 use anyhow::anyhow;
@@ -10,8 +11,15 @@ use wmslice::mesh::validate::validate;
 
 /// Runs `check`.
 pub fn run(a: CheckArgs) -> Result<(), Failure> {
-    let input = load_input(&a.mesh, a.snap.as_deref(), a.repairs.repairs())?;
+    // Spinners on a terminal only (a 10 M-face scan takes seconds to
+    // read and validate), cleared before the report.
+    let reading = step("reading and welding the mesh", false);
+    let input = load_input(&a.mesh, a.snap.as_deref(), a.repairs.repairs());
+    reading.finish_and_clear();
+    let input = input?;
+    let validating = step("validating the mesh", false);
     let report = validate(&input.mesh);
+    validating.finish_and_clear();
     // A snapped mesh is stored in grid steps; report its measures in the
     // file's units.
     let report = match &input.unit {

@@ -4,6 +4,7 @@
 
 use super::args::{CriticalArgs, CriticalFormat};
 use super::input::load_input;
+use super::progress::step;
 use super::{emit, slice_error, usage, worker_pool, ExitCode, Failure};
 use wmslice::critical::fit::PlanReport;
 use wmslice::critical::{self, CriticalReport};
@@ -41,7 +42,10 @@ fn plan(
 /// Runs `critical`.
 pub fn run(a: CriticalArgs) -> Result<(), Failure> {
     let (_, pool) = worker_pool(a.threads)?;
-    let input = pool.install(|| load_input(&a.mesh, a.snap.as_deref(), a.repairs.repairs()))?;
+    let reading = step("reading and welding the mesh", false);
+    let input = pool.install(|| load_input(&a.mesh, a.snap.as_deref(), a.repairs.repairs()));
+    reading.finish_and_clear();
+    let input = input?;
     for n in &input.notes {
         eprintln!("note: {n}");
     }
@@ -49,17 +53,24 @@ pub fn run(a: CriticalArgs) -> Result<(), Failure> {
         .unit
         .clone()
         .unwrap_or_else(|| Rat::from_integer(1.into()));
+    let analysing = step(
+        "validating the mesh and finding its critical heights",
+        false,
+    );
     let (slicer, header) = pool.install(|| {
         rayon::join(
             || Slicer::with_unit(&input.mesh, unit.clone()),
             || input.header(),
         )
     });
-    let slicer = slicer.map_err(slice_error)?;
-    let report = critical::analyze(&slicer).map_err(|e| Failure {
-        code: ExitCode::Internal,
-        error: e.into(),
-    })?;
+    let report = slicer.map_err(slice_error).and_then(|slicer| {
+        critical::analyze(&slicer).map_err(|e| Failure {
+            code: ExitCode::Internal,
+            error: e.into(),
+        })
+    });
+    analysing.finish_and_clear();
+    let report = report?;
     let (z_min, _) = height_range(&input.mesh, &unit);
     let plan = plan(&a, &report, &z_min)?;
     let text = match a.format {
