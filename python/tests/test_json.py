@@ -54,3 +54,11 @@ def test_to_json_writes_a_file_atomically(scratch):
     assert many.to_json(path=out) is None
     assert out.read_text() == many.to_json()
     assert [p.name for p in out.parent.iterdir()] == ["c.json"]
+    # A path given first is the path (a bool is never one), for the
+    # levels and for one level; exact stays as sliced.
+    first = scratch / "first.json"
+    assert many.to_json(str(first)) is None and first.read_text() == many.to_json()
+    assert many[1].to_json(first) is None and first.read_text() == many[1].to_json()
+    exact = m.slice_many([0, 1, 2], exact=True)
+    assert exact.to_json(first) is None and first.read_text() == exact.to_json(True)
+    assert many.to_json(False) == many.to_json() != many.to_json(True)

@@ -18,6 +18,7 @@ closed, consistently oriented 2-manifold raises :class:`InvalidMesh` (a
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any, Iterable, Iterator
@@ -220,6 +221,14 @@ class Saddle:
         return f"Saddle(vertex {self.vertex}, {self.branches} branches)"
 
 
+def _json_arguments(exact, path):
+    """``to_json``'s arguments, a path given first taken for the path
+    (``to_json("out.json")``): a bool is never a path."""
+    if path is None and isinstance(exact, (str, bytes, os.PathLike)):
+        return None, exact
+    return exact, path
+
+
 class LevelSet:
     """The complete level set of a mesh at one exact level ``z`` (SPEC 3-6).
 
@@ -302,7 +311,9 @@ class LevelSet:
         """The SPEC 9 document of this level alone (header included),
         byte-equal to ``wmslice slice MESH --at Z --format json [--exact]``;
         ``exact`` defaults to how the level was sliced. With ``path``, the
-        document is written there atomically instead."""
+        document is written there atomically instead (``to_json(path)``
+        works too)."""
+        exact, path = _json_arguments(exact, path)
         return _native.document([self._level], exact, path)
 
     def to_shapely(self, family: str = "contours"):
@@ -367,7 +378,9 @@ class LevelSets(Sequence):
         """One SPEC 9 document of every level, byte-equal to the command
         line's for the same mesh and levels (texts made in parallel,
         without the GIL). ``exact`` defaults to how the levels were sliced;
-        with ``path`` the document is written there atomically."""
+        with ``path`` the document is written there atomically
+        (``to_json(path)`` works too)."""
+        exact, path = _json_arguments(exact, path)
         return _native.document([s._level for s in self._sets], exact, path)
 
     def __reduce__(self):
