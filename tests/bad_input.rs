@@ -559,10 +559,10 @@ fn usage_and_output_errors_have_their_codes_and_leave_no_file() {
     assert!(!cert.exists() && !out.exists());
 }
 
-#[test]
-fn verify_against_an_invalid_mesh_exits_3() {
-    let dir = tempfile::tempdir().unwrap();
-    let result = dir.path().join("r.json");
+/// The unit cube sliced at 1/2 with exact JSON into `dir` (a result
+/// `verify` reads).
+fn exact_cube_result(dir: &Path) -> std::path::PathBuf {
+    let result = dir.join("cube.json");
     let (code, _, err) = wmslice(&[
         "slice",
         "unit_cube",
@@ -573,9 +573,15 @@ fn verify_against_an_invalid_mesh_exits_3() {
         "--exact",
         "-o",
         s(&result),
-        "--quiet",
     ]);
     assert_eq!(code, 0, "{err}");
+    result
+}
+
+#[test]
+fn verify_against_an_invalid_mesh_exits_3() {
+    let dir = tempfile::tempdir().unwrap();
+    let result = exact_cube_result(dir.path());
     let open = dir.path().join("open.off");
     std::fs::write(
         &open,
@@ -631,19 +637,7 @@ fn a_grid_coarser_than_the_part_is_named_with_the_part_size() {
 #[test]
 fn a_full_disk_is_an_output_error_for_every_command() {
     let dir = tempfile::tempdir().unwrap();
-    let result = dir.path().join("cube.json");
-    let (code, _, err) = wmslice(&[
-        "slice",
-        "unit_cube",
-        "--at",
-        "1/2",
-        "--format",
-        "json",
-        "--exact",
-        "-o",
-        s(&result),
-    ]);
-    assert_eq!(code, 0, "{err}");
+    let result = exact_cube_result(dir.path());
     let to_stdout: &[&[&str]] = &[
         &["--help"],
         &["--version"],
