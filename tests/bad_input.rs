@@ -147,7 +147,7 @@ fn rows() -> Vec<Row> {
     nan_stl[5][2] = f32::NAN;
     let inverted: Vec<[u32; 3]> = TETRA.iter().map(|f| [f[0], f[2], f[1]]).collect();
     vec![
-        row("empty file", "empty.stl", Vec::new(), s, 4, "truncated"),
+        row("empty file", "empty.stl", Vec::new(), s, 4, "the mesh file is empty (0 bytes)"),
         row(
             "truncated binary STL",
             "truncated.stl",

@@ -152,3 +152,51 @@ fn uniform_layers_start_mid_layer_and_merge_with_explicit_levels() {
     assert_eq!(zs, ["1/8", "3/8", "5/8", "7/8", "1"]);
     assert_eq!(run(&["slice", "unit_cube", "--layer-height", "0"]).0, 2);
 }
+
+/// `-` reads the mesh from standard input, its format recognised by
+/// content: the same levels as from the file, byte for byte, in every
+/// format `gen` writes; an empty input is refused by name (exit 4).
+#[test]
+fn a_mesh_on_standard_input_slices_as_its_file() {
+    use std::io::Write;
+    use std::process::Stdio;
+    let dir = tempfile::tempdir().unwrap();
+    let piped = |input: &[u8], args: &[&str]| {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_wmslice"))
+            .args(args)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        child.stdin.take().unwrap().write_all(input).unwrap();
+        let out = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr).into_owned();
+        (out.status.code().unwrap_or(-1), out.stdout, err)
+    };
+    for ext in ["stl", "obj", "off", "ply"] {
+        let file = dir.path().join(format!("double_torus.{ext}"));
+        let path = file.to_str().unwrap();
+        let (code, _) = run(&["gen", "double_torus", "-o", path]);
+        assert_eq!(code, 0, "{ext}");
+        let levels = ["--at", "2", "--at", "4", "--format", "json", "--exact"];
+        let from_file = Command::new(env!("CARGO_BIN_EXE_wmslice"))
+            .args(["slice", path])
+            .args(levels)
+            .output()
+            .unwrap();
+        assert_eq!(from_file.status.code(), Some(0), "{ext}");
+        let bytes = std::fs::read(&file).unwrap();
+        let args: Vec<&str> = ["slice", "-"].iter().chain(&levels).copied().collect();
+        let (code, from_stdin, err) = piped(&bytes, &args);
+        assert_eq!(code, 0, "{ext}: {err}");
+        assert!(err.contains("note: read standard input as"), "{ext}: {err}");
+        assert!(
+            !from_stdin.is_empty() && from_stdin == from_file.stdout,
+            "{ext}"
+        );
+    }
+    let (code, _, err) = piped(b"", &["check", "-"]);
+    assert_eq!(code, 4, "{err}");
+    assert!(err.contains("the mesh file is empty (0 bytes)"), "{err}");
+}

@@ -43,7 +43,7 @@ pub enum CriticalFormat {
 /// `wmslice critical`.
 #[derive(Args, Debug)]
 pub struct CriticalArgs {
-    /// A mesh file (STL, OBJ, OFF, PLY, 3MF) or a built-in dataset name.
+    /// A mesh file (STL, OBJ, OFF, PLY, 3MF; `-` for standard input) or a built-in dataset name.
     pub mesh: String,
     /// Snap coordinates to the grid Q (decimal or p/q) first.
     #[arg(long, value_name = "Q", allow_hyphen_values = true)]
@@ -88,7 +88,7 @@ pub struct DemoArgs {
 /// `wmslice verify`.
 #[derive(Args, Debug)]
 pub struct VerifyArgs {
-    /// The mesh the result claims to slice (file or built-in dataset name).
+    /// The mesh the result claims to slice (file, `-` for standard input, or built-in dataset name).
     pub mesh: String,
     /// The result: a `wmslice-levelset` JSON written with `--exact`.
     pub result: PathBuf,
@@ -149,7 +149,7 @@ pub struct GenArgs {
 /// `wmslice check`.
 #[derive(Args, Debug)]
 pub struct CheckArgs {
-    /// A mesh file or a built-in dataset name.
+    /// A mesh file (`-` for standard input) or a built-in dataset name.
     pub mesh: String,
     /// Print JSON instead of text.
     #[arg(long)]
@@ -181,7 +181,7 @@ pub enum Format {
 /// `wmslice slice`.
 #[derive(Args, Debug)]
 pub struct SliceArgs {
-    /// A mesh file (STL, OBJ, OFF, PLY, 3MF) or a built-in dataset name.
+    /// A mesh file (STL, OBJ, OFF, PLY, 3MF; `-` for standard input) or a built-in dataset name.
     pub mesh: String,
     /// A level, as typed (0.6, 10.35, 3/5, -1e-3): exact. Repeatable.
     #[arg(long = "at", value_name = "Z", allow_hyphen_values = true)]

@@ -91,16 +91,26 @@ pub fn load_input(spec: &str, snap_arg: Option<&str>, repairs: Repairs) -> Resul
     let q = snap_arg
         .map(|q| parse_rational(q).tag(ExitCode::Usage))
         .transpose()?;
-    let (mesh, exact) = if path.exists() {
-        file_bytes = wmslice::mesh::io::read_file(path)
-            .map_err(|e| anyhow!("cannot read {spec}: {e}"))
-            .tag(ExitCode::Input)?;
+    // `-` is standard input (a file named `-` is `./-`), its format
+    // recognised by content.
+    let stdin = spec == "-";
+    let (mesh, exact) = if stdin || path.exists() {
+        file_bytes = if stdin {
+            let mut bytes = Vec::new();
+            std::io::Read::read_to_end(&mut std::io::stdin().lock(), &mut bytes)
+                .map(|_| bytes)
+                .map_err(|e| anyhow!("cannot read standard input: {e}"))
+        } else {
+            wmslice::mesh::io::read_file(path).map_err(|e| anyhow!("cannot read {spec}: {e}"))
+        }
+        .tag(ExitCode::Input)?;
         let hint = path
             .extension()
             .and_then(|e| e.to_str())
             .and_then(MeshFormat::from_extension);
         let (mesh, report, exact) = load_bytes_exact(&file_bytes, hint).tag(ExitCode::Input)?;
-        notes.push(format!("read {} as {}", spec, report.format));
+        let name = if stdin { "standard input" } else { spec };
+        notes.push(format!("read {name} as {}", report.format));
         notes.extend(report.notes.iter().map(|n| n.to_string()));
         if !exact.is_empty() {
             notes.push(format!(

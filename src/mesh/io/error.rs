@@ -70,8 +70,11 @@ pub enum LoadError {
         /// The size of the file it stands for, as the pointer says.
         size: Option<u64>,
     },
+    /// The input holds no byte.
+    #[error("the mesh file is empty (0 bytes)")]
+    Empty,
     /// Neither the extension nor the content names a supported format.
-    #[error("unknown mesh format{}", match extension { Some(e) => format!(" (extension `.{e}`)"), None => String::new() })]
+    #[error("unknown mesh format{}: the content is not STL, OBJ, OFF, PLY or 3MF", match extension { Some(e) => format!(" (extension `.{e}`)"), None => String::new() })]
     UnknownFormat {
         /// The file's extension, if it had one.
         extension: Option<String>,

@@ -312,6 +312,7 @@ pub fn load_exact(path: &Path) -> Result<(Mesh, LoadReport, ExactPositions), Loa
         source,
     })?;
     match hint {
+        _ if bytes.is_empty() => Err(LoadError::Empty),
         Some(_) => load_bytes_exact(&bytes, hint),
         None => {
             let format = detect_format(&bytes).ok_or_else(|| LoadError::UnknownFormat {
@@ -382,6 +383,9 @@ pub fn load_bytes_exact(
     hint: Option<MeshFormat>,
 ) -> Result<(Mesh, LoadReport, ExactPositions), LoadError> {
     let bytes = without_utf8_bom(bytes);
+    if bytes.is_empty() {
+        return Err(LoadError::Empty);
+    }
     if let Some(e) = git_lfs_pointer(bytes) {
         return Err(e);
     }
