@@ -28,6 +28,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<mesh::Mesh>()?;
     m.add_class::<level::Level>()?;
     m.add_function(wrap_pyfunction!(mesh::load, m)?)?;
+    m.add_function(wrap_pyfunction!(mesh::load_bytes, m)?)?;
     m.add_function(wrap_pyfunction!(mesh::dataset, m)?)?;
     m.add_function(wrap_pyfunction!(mesh::datasets, m)?)?;
     m.add_function(wrap_pyfunction!(level::document, m)?)?;

@@ -664,34 +664,63 @@ pub fn load(
     drop_collapsed: bool,
     weld: bool,
 ) -> PyResult<Mesh> {
-    let q = snap_of(snap)?;
     let shown = path.display().to_string();
-    let (mesh, exact) = py
-        .detach(|| -> Result<_, wmslice::mesh::io::LoadError> {
-            let bytes = read_file(&path).map_err(|source| wmslice::mesh::io::LoadError::Io {
-                path: path.clone(),
-                source,
-            })?;
-            let hint = path
-                .extension()
-                .and_then(|e| e.to_str())
-                .and_then(MeshFormat::from_extension);
-            load_bytes_exact(&bytes, hint).map(|(mesh, _, exact)| (mesh, exact))
-        })
-        .map_err(|e| load_error(&shown, e))?;
+    let bytes = py.detach(|| read_file(&path)).map_err(|source| {
+        let e = wmslice::mesh::io::LoadError::Io {
+            path: path.clone(),
+            source,
+        };
+        load_error(&shown, e)
+    })?;
+    let hint = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .and_then(MeshFormat::from_extension);
+    prepared(
+        py,
+        &bytes,
+        hint,
+        &shown,
+        snap,
+        Repairs::from_flags(weld, drop_collapsed),
+    )
+}
+
+/// As [`load`], for a mesh file's bytes already in memory (the format told
+/// by content alone).
+#[pyfunction]
+#[pyo3(signature = (data, snap=None, drop_collapsed=false, weld=false))]
+pub fn load_bytes(
+    py: Python<'_>,
+    data: &Bound<'_, pyo3::types::PyBytes>,
+    snap: Option<&Bound<'_, PyAny>>,
+    drop_collapsed: bool,
+    weld: bool,
+) -> PyResult<Mesh> {
+    let repairs = Repairs::from_flags(weld, drop_collapsed);
+    prepared(py, data.as_bytes(), None, "<bytes>", snap, repairs)
+}
+
+/// A mesh file's bytes parsed, snapped and repaired as asked, validated;
+/// errors name the file as `shown`.
+fn prepared(
+    py: Python<'_>,
+    bytes: &[u8],
+    hint: Option<MeshFormat>,
+    shown: &str,
+    snap: Option<&Bound<'_, PyAny>>,
+    repairs: Repairs,
+) -> PyResult<Mesh> {
+    let q = snap_of(snap)?;
+    let (mesh, _, exact) = py
+        .detach(|| load_bytes_exact(bytes, hint))
+        .map_err(|e| load_error(shown, e))?;
     // A 3MF vertex whose transformed position is not a double is placed
     // only by the grid; without one it is the file's error.
     let p = py
-        .detach(|| {
-            prepare_exact_with(
-                mesh,
-                &exact,
-                q.as_ref(),
-                Repairs::from_flags(weld, drop_collapsed),
-            )
-        })
+        .detach(|| prepare_exact_with(mesh, &exact, q.as_ref(), repairs))
         .map_err(|e| match e {
-            PrepareError::NotDoubles(e) => load_error(&shown, e),
+            PrepareError::NotDoubles(e) => load_error(shown, e),
             PrepareError::Snap(e) => snap_error(py, e),
         })?;
     let core = py

@@ -19,6 +19,15 @@ def test_from_trimesh_and_to_shapely():
     ls = m.slice(0)
     shape = ls.to_shapely()
     assert shape.area == 6.0 and shape.is_valid
+    # Three vertices a face, as trimesh keeps an STL with process=False:
+    # refused as it is, the box again once welded.
+    corners = box.vertices[box.faces].reshape(-1, 3)
+    soup = trimesh.Trimesh(corners, np.arange(len(corners)).reshape(-1, 3), process=False)
+    with pytest.raises(wmslice.InvalidMesh, match="open edge"):
+        wmslice.Mesh.from_trimesh(soup)
+    welded = wmslice.Mesh.from_trimesh(soup, weld=True)
+    assert welded.welded == 36 - 8
+    assert welded.slice("1/2", exact=True).contours[0].area_exact == m.slice("1/2", exact=True).contours[0].area_exact
     # An annulus: one polygon with one hole, area the sum of the signed areas.
     v, f = torus(120, 40, dtype=np.float64)
     ls = wmslice.Mesh(v, f).slice("1/3", exact=True)

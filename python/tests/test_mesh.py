@@ -144,6 +144,36 @@ def test_files_every_format_and_errors(cli, scratch):
         wmslice.dataset("no_such_dataset")
 
 
+def test_a_file_in_memory_or_open_loads_as_the_file(cli, scratch):
+    """Bytes, a bytearray, a memoryview, an open binary file and a BytesIO
+    give the mesh the path gives (format by content), in every format."""
+    import io
+
+    for ext in ("stl", "obj", "off", "ply"):
+        path = scratch / f"t.{ext}"
+        cli("gen", "double_torus", "-o", str(path))
+        want = wmslice.load(path)
+        data = path.read_bytes()
+        with open(path, "rb") as f:
+            opened = wmslice.load(f)
+        for got in (
+            wmslice.load(data),
+            wmslice.load(bytearray(data)),
+            wmslice.load(memoryview(data)),
+            wmslice.load(io.BytesIO(data)),
+            opened,
+        ):
+            assert got.sha256 == want.sha256, ext
+            assert got.slice_many([2, 4], exact=True).to_json() == want.slice_many([2, 4], exact=True).to_json()
+    with open(scratch / "t.obj") as text:
+        with pytest.raises(TypeError, match="open it with 'rb'"):
+            wmslice.load(text)
+    with pytest.raises(ValueError, match="empty"):
+        wmslice.load(b"")
+    with pytest.raises(ValueError, match="unknown mesh format"):
+        wmslice.load(b"not a mesh")
+
+
 def test_a_3mf_placed_by_a_rounding_transform_loads_only_on_a_grid(cli, scratch):
     """The unit cube at decimal offsets, placed by a build item's
     translation: 0.1 + 125 is not a double, so the file is refused without

@@ -424,10 +424,11 @@ class Mesh:
         return m
 
     @classmethod
-    def from_trimesh(cls, t, snap=None) -> "Mesh":
+    def from_trimesh(cls, t, snap=None, drop_collapsed: bool = False, weld: bool = False) -> "Mesh":
         """From a ``trimesh.Trimesh`` (its vertices and faces as they are;
-        trimesh merges vertices on load unless told not to)."""
-        return cls(t.vertices, t.faces, snap)
+        trimesh merges vertices on load unless told not to: with
+        ``process=False``, give ``weld=True``)."""
+        return cls(t.vertices, t.faces, snap, drop_collapsed, weld)
 
     vertices = property(lambda self: self._m.vertices, doc="(n, 3) float64 vertices as sliced.")
     faces = property(lambda self: self._m.faces, doc="(m, 3) uint32 faces as sliced (after flips).")
@@ -496,12 +497,20 @@ def load(path, snap=None, drop_collapsed: bool = False, weld: bool = False) -> M
     the command line reads), merges its vertices at exactly one point when
     ``weld``, snaps it to ``snap`` when given, removes the
     faces that use one vertex twice when ``drop_collapsed`` (see
-    :class:`Mesh`), removes degenerate faces and validates it. ``OSError`` when the file cannot be
+    :class:`Mesh`), removes degenerate faces and validates it. ``path`` may
+    also be the file's bytes (``bytes``, ``bytearray``, ``memoryview``) or
+    an open binary file; their format is told by content. ``OSError`` when the file cannot be
     read, ``ValueError`` when it cannot be parsed, :class:`InvalidMesh` when
     it is not accepted. A 3MF vertex whose transformed position is not a
     double (an object a slicer placed on its bed) has no exact place
     without a grid: ``ValueError``; with ``snap`` it is snapped from its
     exact image."""
+    if hasattr(path, "read"):
+        path = path.read()
+        if isinstance(path, str):
+            raise TypeError("load: the file is open in text mode; open it with 'rb'")
+    if isinstance(path, (bytes, bytearray, memoryview)):
+        return Mesh._wrap(_native.load_bytes(bytes(path), snap, drop_collapsed, weld))
     return Mesh._wrap(_native.load(path, snap, drop_collapsed, weld))
 
 
