@@ -200,3 +200,29 @@ fn a_mesh_on_standard_input_slices_as_its_file() {
     assert_eq!(code, 4, "{err}");
     assert!(err.contains("the mesh file is empty (0 bytes)"), "{err}");
 }
+
+/// `-o -` is standard output, as no `-o` is, for `slice` and `critical`:
+/// the same bytes, and no file named `-` (it used to make one).
+#[test]
+fn output_dash_is_standard_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let in_dir = |args: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_wmslice"))
+            .args(args)
+            .current_dir(dir.path())
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(0), "{args:?}");
+        out.stdout
+    };
+    for args in [
+        &["slice", "double_torus", "--at", "2", "--format", "json"][..],
+        &["slice", "double_torus", "--at", "2", "--format", "cli"][..],
+        &["critical", "double_torus", "--format", "json"][..],
+    ] {
+        let plain = in_dir(args);
+        let dashed = in_dir(&[args, &["-o", "-"]].concat());
+        assert!(!plain.is_empty() && dashed == plain, "{args:?}");
+        assert!(!dir.path().join("-").exists(), "{args:?}");
+    }
+}

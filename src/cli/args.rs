@@ -53,7 +53,7 @@ pub struct CriticalArgs {
     /// Output format.
     #[arg(long, value_enum, default_value_t = CriticalFormat::Text)]
     pub format: CriticalFormat,
-    /// Output file (default: stdout).
+    /// Output file (default, or `-`: stdout).
     #[arg(short, long, value_name = "PATH")]
     pub output: Option<PathBuf>,
     /// Layer height H: audit the uniform plan (which layer prints each
@@ -229,7 +229,7 @@ pub struct SliceArgs {
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Summary)]
     pub format: Format,
-    /// Output file (default: stdout).
+    /// Output file (default, or `-`: stdout).
     #[arg(short, long, value_name = "PATH")]
     pub output: Option<PathBuf>,
     /// No progress output.

@@ -22,7 +22,7 @@ use anyhow::anyhow;
 use args::{Cli, Command};
 use clap::Parser;
 use std::fmt;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use wmslice::output::atomic::write_atomic;
 use wmslice::SliceError;
 
@@ -131,10 +131,22 @@ fn dispatch(cli: Cli) -> Result<(), Failure> {
         Command::Demo(a) => demo::run(a),
         Command::Gen(a) => gen::run(a),
         Command::Check(a) => check::run(a),
-        Command::Slice(a) => slice::run(a),
+        Command::Slice(mut a) => {
+            a.output = dash_is_stdout(a.output);
+            slice::run(a)
+        }
         Command::Verify(a) => verify::run(a),
-        Command::Critical(a) => critical::run(a),
+        Command::Critical(mut a) => {
+            a.output = dash_is_stdout(a.output);
+            critical::run(a)
+        }
     }
+}
+
+/// `-o -` is standard output, as no `-o` is (it made a file named `-`);
+/// a file named `-` is `-o ./-`.
+fn dash_is_stdout(output: Option<PathBuf>) -> Option<PathBuf> {
+    output.filter(|p| p.as_os_str() != "-")
 }
 
 /// Prints a line to stdout; a closed pipe (`wmslice ... | head`) ends the
