@@ -153,27 +153,30 @@ fn uniform_layers_start_mid_layer_and_merge_with_explicit_levels() {
     assert_eq!(run(&["slice", "unit_cube", "--layer-height", "0"]).0, 2);
 }
 
+/// Runs the binary with `input` on its standard input: exit code, stdout,
+/// stderr.
+fn piped(input: &[u8], args: &[&str]) -> (i32, Vec<u8>, String) {
+    use std::io::Write;
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_wmslice"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    child.stdin.take().unwrap().write_all(input).unwrap();
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    (out.status.code().unwrap_or(-1), out.stdout, err)
+}
+
 /// `-` reads the mesh from standard input, its format recognised by
 /// content: the same levels as from the file, byte for byte, in every
 /// format `gen` writes; an empty input is refused by name (exit 4).
 #[test]
 fn a_mesh_on_standard_input_slices_as_its_file() {
-    use std::io::Write;
-    use std::process::Stdio;
     let dir = tempfile::tempdir().unwrap();
-    let piped = |input: &[u8], args: &[&str]| {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_wmslice"))
-            .args(args)
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
-        child.stdin.take().unwrap().write_all(input).unwrap();
-        let out = child.wait_with_output().unwrap();
-        let err = String::from_utf8_lossy(&out.stderr).into_owned();
-        (out.status.code().unwrap_or(-1), out.stdout, err)
-    };
     for ext in ["stl", "obj", "off", "ply"] {
         let file = dir.path().join(format!("double_torus.{ext}"));
         let path = file.to_str().unwrap();
@@ -225,4 +228,46 @@ fn output_dash_is_standard_output() {
         assert!(!plain.is_empty() && dashed == plain, "{args:?}");
         assert!(!dir.path().join("-").exists(), "{args:?}");
     }
+}
+
+/// `verify MESH -` reads the result from standard input (`slice ... -o -
+/// | wmslice verify MESH -`): an exact result passes, the same result with
+/// one rounded coordinate moved fails with the point named (exit 6), and
+/// the mesh and the result cannot both be standard input (exit 2).
+#[test]
+fn a_result_on_standard_input_is_verified() {
+    let (code, result) = run(&[
+        "slice",
+        "double_torus",
+        "--at",
+        "2",
+        "--format",
+        "json",
+        "--exact",
+        "-o",
+        "-",
+        "--quiet",
+    ]);
+    assert_eq!(code, 0);
+    let (code, out, err) = piped(result.as_bytes(), &["verify", "double_torus", "-"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(String::from_utf8_lossy(&out).starts_with("standard input: verified: 1 levels"));
+    // The first point of the first contour, moved (a rounded value that is
+    // no longer the exact point's nearest double).
+    let at = result.find("\"points\":[[").unwrap() + "\"points\":[[".len();
+    let tampered = format!(
+        "{}1e300{}",
+        &result[..at],
+        &result[at + result[at..].find(',').unwrap()..]
+    );
+    let (code, out, err) = piped(tampered.as_bytes(), &["verify", "double_torus", "-"]);
+    assert_eq!(code, 6, "{err}");
+    assert!(
+        String::from_utf8_lossy(&out)
+            .contains("point 0: rounded x 1e300 is not the double nearest"),
+        "{err}"
+    );
+    let (code, _, err) = piped(b"", &["verify", "-", "-"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("cannot both be standard input"), "{err}");
 }

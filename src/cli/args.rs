@@ -90,7 +90,7 @@ pub struct DemoArgs {
 pub struct VerifyArgs {
     /// The mesh the result claims to slice (file, `-` for standard input, or built-in dataset name).
     pub mesh: String,
-    /// The result: a `wmslice-levelset` JSON written with `--exact`.
+    /// The result: a `wmslice-levelset` JSON written with `--exact` (`-`: standard input).
     pub result: PathBuf,
     /// Snap grid the result was computed with (must match its header).
     #[arg(long, value_name = "Q", allow_hyphen_values = true)]

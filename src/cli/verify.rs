@@ -15,7 +15,7 @@
 use super::args::VerifyArgs;
 use super::input::load_input;
 use super::progress::{progress, step};
-use super::{ExitCode, Failure, Tag};
+use super::{usage, ExitCode, Failure, Tag};
 use crate::say;
 use anyhow::anyhow;
 use wmslice::mesh::prepare::Repairs;
@@ -23,11 +23,28 @@ use wmslice::verify::{outline, Verifier, VerifyError};
 
 /// Runs `verify`.
 pub fn run(a: VerifyArgs) -> Result<(), Failure> {
-    let shown = a.result.display();
+    // `-` is standard input, for one of the two (`slice ... -o - |
+    // wmslice verify MESH -`).
+    let from_stdin = a.result.as_os_str() == "-";
+    if from_stdin && a.mesh == "-" {
+        return Err(usage(
+            "the mesh and the result cannot both be standard input".into(),
+        ));
+    }
+    let shown = if from_stdin {
+        "standard input".to_string()
+    } else {
+        a.result.display().to_string()
+    };
     let reading = step("reading the result", a.quiet);
-    let bytes = std::fs::read(&a.result)
-        .map_err(|e| anyhow!("cannot read {shown}: {e}"))
-        .tag(ExitCode::Input)?;
+    let bytes = if from_stdin {
+        let mut bytes = Vec::new();
+        std::io::Read::read_to_end(&mut std::io::stdin().lock(), &mut bytes).map(|_| bytes)
+    } else {
+        std::fs::read(&a.result)
+    }
+    .map_err(|e| anyhow!("cannot read {shown}: {e}"))
+    .tag(ExitCode::Input)?;
     let text = String::from_utf8(bytes)
         .map_err(|e| anyhow!("{shown} is not UTF-8 text: {e}"))
         .tag(ExitCode::Input)?;
