@@ -311,16 +311,14 @@ pub fn load_exact(path: &Path) -> Result<(Mesh, LoadReport, ExactPositions), Loa
         path: path.to_path_buf(),
         source,
     })?;
-    match hint {
-        _ if bytes.is_empty() => Err(LoadError::Empty),
-        Some(_) => load_bytes_exact(&bytes, hint),
-        None => {
-            let format = detect_format(&bytes).ok_or_else(|| LoadError::UnknownFormat {
-                extension: ext.map(str::to_owned),
-            })?;
-            load_bytes_exact(&bytes, Some(format))
-        }
-    }
+    // The content decides when the extension does not; a format it cannot
+    // tell is named with the extension the file had.
+    load_bytes_exact(&bytes, hint).map_err(|e| match e {
+        LoadError::UnknownFormat { extension: None } => LoadError::UnknownFormat {
+            extension: ext.map(str::to_owned),
+        },
+        e => e,
+    })
 }
 
 /// A mesh read, refused when some vertex's exact position is not a double.
