@@ -81,6 +81,13 @@ fn dropped_note(dropped: &[FaceId]) -> String {
     )
 }
 
+/// Everything on standard input (a mesh or a result given as `-`).
+pub fn read_stdin() -> std::io::Result<Vec<u8>> {
+    let mut bytes = Vec::new();
+    std::io::Read::read_to_end(&mut std::io::stdin().lock(), &mut bytes)?;
+    Ok(bytes)
+}
+
 /// Reads the mesh, welds it when asked, snaps it when asked, removes
 /// collapsed faces when asked and degenerate faces by flips
 /// ([`wmslice::mesh::prepare`]), with notes for the user.
@@ -96,10 +103,7 @@ pub fn load_input(spec: &str, snap_arg: Option<&str>, repairs: Repairs) -> Resul
     let stdin = spec == "-";
     let (mesh, exact) = if stdin || path.exists() {
         file_bytes = if stdin {
-            let mut bytes = Vec::new();
-            std::io::Read::read_to_end(&mut std::io::stdin().lock(), &mut bytes)
-                .map(|_| bytes)
-                .map_err(|e| anyhow!("cannot read standard input: {e}"))
+            read_stdin().map_err(|e| anyhow!("cannot read standard input: {e}"))
         } else {
             wmslice::mesh::io::read_file(path).map_err(|e| anyhow!("cannot read {spec}: {e}"))
         }

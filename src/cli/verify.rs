@@ -13,7 +13,7 @@
 //! `dropped_collapsed` (`slice --drop-collapsed`).
 
 use super::args::VerifyArgs;
-use super::input::load_input;
+use super::input::{load_input, read_stdin};
 use super::progress::{progress, step};
 use super::{usage, ExitCode, Failure, Tag};
 use crate::say;
@@ -38,8 +38,7 @@ pub fn run(a: VerifyArgs) -> Result<(), Failure> {
     };
     let reading = step("reading the result", a.quiet);
     let bytes = if from_stdin {
-        let mut bytes = Vec::new();
-        std::io::Read::read_to_end(&mut std::io::stdin().lock(), &mut bytes).map(|_| bytes)
+        read_stdin()
     } else {
         std::fs::read(&a.result)
     }
