@@ -574,3 +574,24 @@ fn reads_the_same_reversed(on: &[wmslice::verify::json::Value]) -> bool {
     back.reverse();
     (0..text.len()).any(|r| back[r..].iter().chain(&back[..r]).eq(text.iter())) || text.is_empty()
 }
+
+#[test]
+fn a_result_checked_against_a_refused_mesh_names_the_count_and_first_defect() {
+    let (mesh, text) = result("double_torus", &["2"]);
+    // One face removed: its three edges are open.
+    let mut open = mesh.clone();
+    open.faces.remove(0);
+    let message = verify(&open, None, &text).unwrap_err().to_string();
+    assert!(
+        message.contains("(3 blocking defects; first: open edge"),
+        "{message}"
+    );
+    // One coordinate made NaN: one defect, named in the singular.
+    let mut nan = mesh;
+    nan.positions[0][2] = f64::NAN;
+    let message = verify(&nan, None, &text).unwrap_err().to_string();
+    assert!(
+        message.contains("(1 blocking defect; first: vertex v0"),
+        "{message}"
+    );
+}

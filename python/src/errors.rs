@@ -44,9 +44,10 @@ pub fn invalid_mesh(
         .filter(|d| d.2 == Severity::Error)
         .map(|d| d.1.as_str())
         .collect();
+    let count = errors.len() + unlisted;
     let mut message = format!(
-        "invalid mesh ({} blocking defects): {}",
-        errors.len() + unlisted,
+        "invalid mesh ({count} blocking defect{}): {}",
+        if count == 1 { "" } else { "s" },
         errors
             .iter()
             .take(IN_MESSAGE)
@@ -54,11 +55,8 @@ pub fn invalid_mesh(
             .collect::<Vec<_>>()
             .join("; ")
     );
-    if errors.len() + unlisted > IN_MESSAGE {
-        message.push_str(&format!(
-            "; and {} more (see .defects)",
-            errors.len() + unlisted - IN_MESSAGE
-        ));
+    if count > IN_MESSAGE {
+        message.push_str(&format!("; and {} more (see .defects)", count - IN_MESSAGE));
     }
     let err = InvalidMesh::new_err(message);
     let attach = || -> PyResult<()> {

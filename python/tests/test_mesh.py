@@ -81,6 +81,7 @@ def test_an_open_mesh_is_refused_by_name():
     edges = {frozenset((d["a"], d["b"])) for d in e.value.defects}
     assert edges == {frozenset((3, 7)), frozenset((7, 5)), frozenset((5, 3))}
     assert "open edge" in str(e.value)
+    assert str(e.value).startswith("invalid mesh (3 blocking defects): ")
 
 
 def test_a_nan_coordinate_is_refused_by_vertex():
@@ -92,6 +93,7 @@ def test_a_nan_coordinate_is_refused_by_vertex():
     assert e.value.defects[0]["kind"] == "non_finite_coordinate"
     assert e.value.defects[0]["vertex"] == 5
     assert "v5" in str(e.value)
+    assert str(e.value).startswith("invalid mesh (1 blocking defect): ")
     # Snapping refuses it by name as well.
     with pytest.raises(wmslice.InvalidMesh, match="v5"):
         wmslice.Mesh(v, f, snap="1/100")

@@ -74,7 +74,7 @@ pub enum VerifyError {
     #[error("the result is not a wmslice-levelset document with exact output: {0}")]
     Format(#[from] FormatError),
     /// The mesh is rejected for slicing, so no result can be right for it.
-    #[error("the mesh is not accepted for slicing ({count} blocking defects{}), so no result can be verified against it", first.as_ref().map(|d| format!("; first: {d}")).unwrap_or_default())]
+    #[error("the mesh is not accepted for slicing ({count} blocking defect{}{}), so no result can be verified against it", if *count == 1 { "" } else { "s" }, first.as_ref().map(|d| format!("; first: {d}")).unwrap_or_default())]
     MeshRejected {
         /// The first blocking defect.
         first: Option<Defect>,
