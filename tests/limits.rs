@@ -19,10 +19,11 @@ use num_traits::{One, Zero};
 use proptest::prelude::*;
 use std::collections::HashMap;
 use wmslice::datasets;
+use wmslice::datasets::cross_check::{self, limit_shape};
+use wmslice::datasets::slab::heights_and_midpoints;
 use wmslice::exact::{parse_rational, Rat};
 use wmslice::levelset::check::vertex_heights;
 use wmslice::levelset::Loop;
-use wmslice::mesh::topology::Topology;
 use wmslice::nest::Role;
 use wmslice::segment::CutPoint;
 use wmslice::{Mesh, Slicer};
@@ -248,97 +249,10 @@ fn a_ridge_ring_with_material_on_both_sides_is_not_collapsed() {
     assert!(pit.collapsed && pit.area().is_zero());
 }
 
-/// The mesh mirrored in z, faces turned so that they stay outward.
-fn mirrored(mesh: &Mesh) -> Mesh {
-    let mut m = mesh.clone();
-    for p in &mut m.positions {
-        p[2] = -p[2];
-    }
-    for f in &mut m.faces {
-        f.swap(1, 2);
-    }
-    m
-}
-
-/// A cut by the mesh's elements that do not depend on edge numbering.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-enum Element {
-    Vertex(u32),
-    Edge(u32, u32),
-}
-
-fn element(topo: &Topology, c: &CutPoint) -> Element {
-    match c {
-        CutPoint::AtVertex(v) => Element::Vertex(v.0),
-        CutPoint::OnEdge(e) => {
-            let [a, b] = topo.edge(*e).v;
-            Element::Edge(a.0.min(b.0), a.0.max(b.0))
-        }
-    }
-}
-
-/// A loop as the least rotation of its element sequence.
-fn canonical(seq: Vec<Element>) -> Vec<Element> {
-    (0..seq.len())
-        .map(|r| {
-            seq[r..]
-                .iter()
-                .chain(&seq[..r])
-                .copied()
-                .collect::<Vec<_>>()
-        })
-        .min()
-        .unwrap_or_default()
-}
-
-/// A family as comparable facts: for each loop (by canonical sequence)
-/// its role, its parent's sequence, collapse and exact area.
-type Shape = Vec<(Vec<Element>, Role, Option<Vec<Element>>, bool, Rat)>;
-
-fn shape(loops: &[Loop], seq: impl Fn(&Loop) -> Vec<Element>) -> Shape {
-    let keys: Vec<Vec<Element>> = loops.iter().map(|l| canonical(seq(l))).collect();
-    let mut out: Shape = loops
-        .iter()
-        .zip(&keys)
-        .map(|(l, k)| {
-            (
-                k.clone(),
-                l.role,
-                l.parent.map(|p| keys[p].clone()),
-                l.collapsed,
-                l.area(),
-            )
-        })
-        .collect();
-    out.sort_by(|a, b| a.0.cmp(&b.0));
-    out
-}
-
-fn limit_shape(topo: &Topology, loops: &[Loop]) -> Shape {
-    shape(loops, |l| l.cuts.iter().map(|c| element(topo, c)).collect())
-}
-
+/// The z-mirror at every vertex height and between them
+/// ([`wmslice::datasets::cross_check::check_mirror`]).
 fn check_mirror(mesh: &Mesh) -> Result<(), TestCaseError> {
-    let m = mirrored(mesh);
-    let (a, b) = (Slicer::new(mesh).unwrap(), Slicer::new(&m).unwrap());
-    for c in vertex_heights(mesh) {
-        let up = a.slice_at(&c).unwrap();
-        let down = b.slice_at(&-c.clone()).unwrap();
-        let (ta, tb) = (a.topology(), b.topology());
-        prop_assert_eq!(
-            limit_shape(ta, &up.above),
-            limit_shape(tb, &down.below),
-            "L+ at {}",
-            c
-        );
-        prop_assert_eq!(
-            limit_shape(ta, &up.below),
-            limit_shape(tb, &down.above),
-            "L- at {}",
-            c
-        );
-    }
-    Ok(())
+    cross_check::check_mirror(mesh, &heights_and_midpoints(mesh)).map_err(TestCaseError::fail)
 }
 
 #[test]
@@ -348,71 +262,11 @@ fn mirror_of_every_dataset_swaps_the_limits() {
     }
 }
 
-/// L+ at `c` against the contours at `c + k d` (k = 1, 2, 3), all regular
-/// and below the next vertex height; `s = -1` for L- (levels below).
-fn check_neighbours(
-    slicer: &Slicer<'_>,
-    c: &Rat,
-    d: &Rat,
-    below: bool,
-) -> Result<(), TestCaseError> {
-    let topo = slicer.topology();
-    let ls = slicer.slice_at(c).unwrap();
-    let limit = if below { &ls.below } else { &ls.above };
-    let near: Vec<_> = (1..=3)
-        .map(|k| {
-            let z = c + d * Rat::from_integer(k.into());
-            slicer.slice_at(&z).unwrap()
-        })
-        .collect();
-    let crossed = |l: &Loop| -> Vec<Element> {
-        if l.crossings.is_empty() {
-            l.cuts.iter().map(|c| element(topo, c)).collect()
-        } else {
-            l.crossings
-                .iter()
-                .map(|&e| element(topo, &CutPoint::OnEdge(e)))
-                .collect()
-        }
-    };
-    let ours = shape(limit, crossed);
-    let theirs: Vec<Shape> = near
-        .iter()
-        .map(|n| {
-            shape(&n.contours, |l| {
-                l.cuts.iter().map(|c| element(topo, c)).collect()
-            })
-        })
-        .collect();
-    prop_assert_eq!(ours.len(), theirs[0].len(), "loop count at {}", c);
-    let three = Rat::from_integer(3.into());
-    for (i, o) in ours.iter().enumerate() {
-        // Same edges in the same order, same role and parent.
-        prop_assert_eq!(&o.0, &theirs[0][i].0, "crossings at {}", c);
-        prop_assert_eq!(o.1, theirs[0][i].1, "role at {}", c);
-        prop_assert_eq!(&o.2, &theirs[0][i].2, "parent at {}", c);
-        // The area at c + k d is a quadratic in k: its value at k = 0 is
-        // 3 A(1) - 3 A(2) + A(3).
-        let a = |k: usize| theirs[k][i].4.clone();
-        let limit_area = &three * a(0) - &three * a(1) + a(2);
-        prop_assert_eq!(&o.4, &limit_area, "area at {}", c);
-    }
-    Ok(())
-}
-
+/// Both limits at every vertex height against the regular levels beside
+/// them ([`wmslice::datasets::cross_check::check_all_neighbours`]).
 fn check_all_neighbours(mesh: &Mesh) -> Result<(), TestCaseError> {
     let slicer = Slicer::new(mesh).unwrap();
-    let zs = vertex_heights(mesh);
-    let four = Rat::from_integer(4.into());
-    for (i, c) in zs.iter().enumerate() {
-        if let Some(next) = zs.get(i + 1) {
-            check_neighbours(&slicer, c, &((next - c) / &four), false)?;
-        }
-        if i > 0 {
-            check_neighbours(&slicer, c, &((&zs[i - 1] - c) / &four), true)?;
-        }
-    }
-    Ok(())
+    cross_check::check_all_neighbours(&slicer, &vertex_heights(mesh)).map_err(TestCaseError::fail)
 }
 
 #[test]

@@ -10,6 +10,7 @@
 //! the expected level sets at every degenerate height by hand.
 
 mod build;
+pub mod cross_check;
 pub mod expected;
 pub mod families;
 mod shapes;

@@ -1,0 +1,366 @@
+//! Input: an accepted mesh and exact levels. Output: `Ok` when the slicer
+//! agrees with itself under two transformations whose effect is known
+//! exactly, or the first disagreement, named:
+//!
+//! - a z-mirror ([`check_mirror`]): mirroring the mesh in z (faces turned
+//!   to stay outward) turns the material just above `c` into the material
+//!   just below `-c`. So the mirror's L- at `-c` is the original's L+ at
+//!   `c` and its L+ the original's L-, loop for loop (same mesh elements in
+//!   the same order, roles, parents, collapse, exact areas); its S_O is
+//!   the original's loop for loop where no saddle lies on the plane, and
+//!   has the same steps and total area where one does (SPEC 5 pairs a
+//!   saddle's branches across the sectors below, and below is mirrored); faces up become faces down (same faces, same area,
+//!   boundaries reversed), ridges become valleys, minima maxima; saddles
+//!   keep their branches.
+//! - the neighbouring regular levels ([`check_neighbours`]): L+ at `c`
+//!   crosses exactly the edges, in the same order, of the contour at every
+//!   regular level just above (L- likewise below), with the same roles and
+//!   parents, and each loop's exact area is the limit at `c` of that
+//!   loop's area, a quadratic in the level there (extrapolated exactly
+//!   from three levels).
+//!
+//! Loops are compared by mesh element ids (vertices and edges, an edge by
+//! its two vertex ids), never by coordinates. Shared by `tests/limits.rs`
+//! (datasets and random slabs) and `examples/heldout_cross.rs` (meshes
+//! you did not make).
+
+use crate::classify::{ExtremumKind, Facing, RidgeKind};
+use crate::exact::rational::Rat;
+use crate::levelset::{total_area, LevelSet, Loop, Slicer};
+use crate::mesh::topology::Topology;
+use crate::mesh::Mesh;
+use crate::nest::Role;
+use crate::segment::CutPoint;
+
+/// The mesh mirrored in z, faces turned so that they stay outward. Exact:
+/// a coordinate's negation is a double.
+pub fn mirrored(mesh: &Mesh) -> Mesh {
+    let mut m = mesh.clone();
+    for p in &mut m.positions {
+        p[2] = -p[2];
+    }
+    for f in &mut m.faces {
+        f.swap(1, 2);
+    }
+    m
+}
+
+/// A cut by the mesh's elements that do not depend on edge numbering.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Element {
+    /// A vertex on the plane, by id.
+    Vertex(u32),
+    /// A crossed edge, by its vertex ids (smaller first).
+    Edge(u32, u32),
+}
+
+/// The element a cut lies on.
+pub fn element(topo: &Topology, c: &CutPoint) -> Element {
+    match c {
+        CutPoint::AtVertex(v) => Element::Vertex(v.0),
+        CutPoint::OnEdge(e) => {
+            let [a, b] = topo.edge(*e).v;
+            Element::Edge(a.0.min(b.0), a.0.max(b.0))
+        }
+    }
+}
+
+/// A cyclic sequence as its least rotation.
+pub fn canonical<T: Ord + Clone>(seq: &[T]) -> Vec<T> {
+    (0..seq.len())
+        .map(|r| {
+            seq[r..]
+                .iter()
+                .chain(&seq[..r])
+                .cloned()
+                .collect::<Vec<_>>()
+        })
+        .min()
+        .unwrap_or_default()
+}
+
+/// One loop as comparable facts: its canonical element sequence, role,
+/// parent's sequence, collapse and exact area.
+pub type LoopFacts = (Vec<Element>, Role, Option<Vec<Element>>, bool, Rat);
+
+/// A family as comparable facts, sorted by sequence; `seq` gives a loop's
+/// elements.
+pub fn shape(loops: &[Loop], seq: impl Fn(&Loop) -> Vec<Element>) -> Vec<LoopFacts> {
+    let keys: Vec<Vec<Element>> = loops.iter().map(|l| canonical(&seq(l))).collect();
+    let mut out: Vec<LoopFacts> = loops
+        .iter()
+        .zip(&keys)
+        .map(|(l, k)| {
+            (
+                k.clone(),
+                l.role,
+                l.parent.map(|p| keys[p].clone()),
+                l.collapsed,
+                l.area(),
+            )
+        })
+        .collect();
+    out.sort_by(|a, b| a.0.cmp(&b.0));
+    out
+}
+
+/// A family by the elements its points lie on.
+pub fn limit_shape(topo: &Topology, loops: &[Loop]) -> Vec<LoopFacts> {
+    shape(loops, |l| l.cuts.iter().map(|c| element(topo, c)).collect())
+}
+
+/// The first difference between two families, if any.
+fn same_family(what: &str, c: &Rat, a: &[LoopFacts], b: &[LoopFacts]) -> Result<(), String> {
+    if a.len() != b.len() {
+        return Err(format!(
+            "{what} at {c}: {} loops, the mirror's {}",
+            a.len(),
+            b.len()
+        ));
+    }
+    for (i, (x, y)) in a.iter().zip(b).enumerate() {
+        if x != y {
+            let field = if x.0 != y.0 {
+                "elements"
+            } else if x.1 != y.1 {
+                "role"
+            } else if x.2 != y.2 {
+                "parent"
+            } else if x.3 != y.3 {
+                "collapse"
+            } else {
+                "area"
+            };
+            return Err(format!(
+                "{what} at {c}: loop {i} (of {}, ordered by elements) differs in its {field}",
+                a.len()
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// A family's steps from element to element, sorted: what its loops are
+/// made of, however they pair the branches at a saddle. S_O pairs them
+/// across the sectors below the plane (SPEC 5), the mirror's across the
+/// original's sectors above, so at a saddle the two S_O differ in their
+/// loops but not in their steps.
+fn steps(topo: &Topology, loops: &[Loop]) -> Vec<(Element, Element)> {
+    let mut out: Vec<_> = loops
+        .iter()
+        .flat_map(|l| {
+            let seq: Vec<Element> = l.cuts.iter().map(|c| element(topo, c)).collect();
+            let n = seq.len();
+            (0..n).map(move |i| (seq[i], seq[(i + 1) % n]))
+        })
+        .collect();
+    out.sort();
+    out
+}
+
+/// A path of vertex ids independent of its direction and, when closed, of
+/// its start.
+fn undirected(ids: &[u32], closed: bool) -> Vec<u32> {
+    let rev: Vec<u32> = ids.iter().rev().copied().collect();
+    if closed {
+        canonical(ids).min(canonical(&rev))
+    } else {
+        ids.to_vec().min(rev)
+    }
+}
+
+/// Everything but the loops of a level set, mirrored: regions with their
+/// facing (up and down exchanged), faces, area and boundaries (reversed);
+/// ridges and valleys exchanged; minima and maxima exchanged; saddles.
+type Rest = (
+    Vec<(Facing, Vec<u32>, Rat, Vec<Vec<Element>>)>,
+    Vec<(RidgeKind, bool, Vec<u32>)>,
+    Vec<(u32, ExtremumKind)>,
+    Vec<(u32, u32)>,
+);
+
+fn rest(topo: &Topology, ls: &LevelSet, mirror: bool) -> Rest {
+    let facing = |f: Facing| match (f, mirror) {
+        (Facing::Up, true) => Facing::Down,
+        (Facing::Down, true) => Facing::Up,
+        (f, _) => f,
+    };
+    let mut regions: Vec<_> = ls
+        .regions
+        .iter()
+        .map(|r| {
+            let mut boundary: Vec<Vec<Element>> = r
+                .boundary
+                .iter()
+                .map(|l| {
+                    let mut seq: Vec<Element> = l.cuts.iter().map(|c| element(topo, c)).collect();
+                    if mirror {
+                        seq.reverse();
+                    }
+                    canonical(&seq)
+                })
+                .collect();
+            boundary.sort();
+            let faces: Vec<u32> = r.faces.iter().map(|f| f.0).collect();
+            (facing(r.facing), faces, r.area.clone(), boundary)
+        })
+        .collect();
+    regions.sort_by(|a, b| a.1.cmp(&b.1));
+    let mut ridges: Vec<_> = ls
+        .ridges
+        .iter()
+        .map(|r| {
+            let kind = match (r.kind, mirror) {
+                (RidgeKind::Ridge, true) => RidgeKind::Valley,
+                (RidgeKind::Valley, true) => RidgeKind::Ridge,
+                (k, _) => k,
+            };
+            let ids: Vec<u32> = r.vertices.iter().map(|v| v.0).collect();
+            (kind, r.closed, undirected(&ids, r.closed))
+        })
+        .collect();
+    ridges.sort_by(|a, b| a.2.cmp(&b.2));
+    let mut extrema: Vec<_> = ls
+        .extrema
+        .iter()
+        .map(|p| {
+            let kind = match (p.kind, mirror) {
+                (ExtremumKind::Min, true) => ExtremumKind::Max,
+                (ExtremumKind::Max, true) => ExtremumKind::Min,
+                (k, _) => k,
+            };
+            (p.vertex.0, kind)
+        })
+        .collect();
+    extrema.sort_by_key(|e| e.0);
+    let mut saddles: Vec<_> = ls
+        .saddles
+        .iter()
+        .map(|s| (s.vertex.0, s.branches))
+        .collect();
+    saddles.sort();
+    (regions, ridges, extrema, saddles)
+}
+
+/// The z-mirror check at each of `levels` (in the mesh's units): slices
+/// `mesh` at `c` and its mirror at `-c` and compares them as the module
+/// documentation says. `Err` names the level and what differs; a slicing
+/// error is an `Err` too.
+pub fn check_mirror(mesh: &Mesh, levels: &[Rat]) -> Result<(), String> {
+    let m = mirrored(mesh);
+    let a = Slicer::new(mesh).map_err(|e| format!("the mesh: {e}"))?;
+    let b = Slicer::new(&m).map_err(|e| format!("the mirror: {e}"))?;
+    let (ta, tb) = (a.topology(), b.topology());
+    for c in levels {
+        let up = a.slice_at(c).map_err(|e| format!("at {c}: {e}"))?;
+        let down = b
+            .slice_at(&-c.clone())
+            .map_err(|e| format!("the mirror at {}: {e}", -c.clone()))?;
+        let pairs = [
+            ("L+ (the mirror's L-)", &up.above, &down.below),
+            ("L- (the mirror's L+)", &up.below, &down.above),
+        ];
+        for (what, x, y) in pairs {
+            same_family(what, c, &limit_shape(ta, x), &limit_shape(tb, y))?;
+        }
+        if up.saddles.is_empty() && down.saddles.is_empty() {
+            same_family(
+                "S_O",
+                c,
+                &limit_shape(ta, &up.contours),
+                &limit_shape(tb, &down.contours),
+            )?;
+        } else if steps(ta, &up.contours) != steps(tb, &down.contours)
+            || total_area(&up.contours) != total_area(&down.contours)
+        {
+            return Err(format!(
+                "S_O at {c} (a saddle level): its steps or its total area differ from the mirror's"
+            ));
+        }
+        let (r, s) = (rest(ta, &up, false), rest(tb, &down, true));
+        let names = ["face regions", "ridges", "extrema", "saddles"];
+        let differs = [r.0 != s.0, r.1 != s.1, r.2 != s.2, r.3 != s.3];
+        if let Some(i) = differs.iter().position(|&d| d) {
+            return Err(format!("{} at {c} differ from the mirror's", names[i]));
+        }
+    }
+    Ok(())
+}
+
+/// L+ at `c` (L- when `below`) against the contours at `c + k d` for
+/// k = 1, 2, 3, which must all be regular and lie before the next vertex
+/// height in that direction (`d < 0` below): same edges in the same
+/// order, same roles and parents, and the limit's exact area equal to the
+/// quadratic extrapolation `3 A(1) - 3 A(2) + A(3)` of each loop's area.
+pub fn check_neighbours(slicer: &Slicer<'_>, c: &Rat, d: &Rat, below: bool) -> Result<(), String> {
+    let topo = slicer.topology();
+    let slice = |z: &Rat| slicer.slice_at(z).map_err(|e| format!("at {z}: {e}"));
+    let ls = slice(c)?;
+    let limit = if below { &ls.below } else { &ls.above };
+    let which = if below { "L-" } else { "L+" };
+    let near = (1..=3)
+        .map(|k| slice(&(c + d * Rat::from_integer(k.into()))))
+        .collect::<Result<Vec<_>, _>>()?;
+    let crossed = |l: &Loop| -> Vec<Element> {
+        if l.crossings.is_empty() {
+            l.cuts.iter().map(|c| element(topo, c)).collect()
+        } else {
+            l.crossings
+                .iter()
+                .map(|&e| element(topo, &CutPoint::OnEdge(e)))
+                .collect()
+        }
+    };
+    let ours = shape(limit, crossed);
+    let theirs: Vec<_> = near
+        .iter()
+        .map(|n| limit_shape(topo, &n.contours))
+        .collect();
+    if ours.len() != theirs[0].len() {
+        return Err(format!(
+            "{which} at {c}: {} loops, the regular level beside it {}",
+            ours.len(),
+            theirs[0].len()
+        ));
+    }
+    let three = Rat::from_integer(3.into());
+    for (i, o) in ours.iter().enumerate() {
+        let n = &theirs[0][i];
+        let field = if o.0 != n.0 {
+            Some("crossed edges")
+        } else if o.1 != n.1 {
+            Some("role")
+        } else if o.2 != n.2 {
+            Some("parent")
+        } else {
+            let a = |k: usize| &theirs[k][i].4;
+            let limit_area = &three * a(0) - &three * a(1) + a(2);
+            (o.4 != limit_area).then_some("area (not the limit of the regular areas)")
+        };
+        if let Some(field) = field {
+            return Err(format!(
+                "{which} at {c}: loop {i} differs from the regular level beside it in its {field}"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// [`check_neighbours`] on both sides of each of `levels` that is a vertex
+/// height, with `d` a quarter of the gap to the next vertex height there.
+pub fn check_all_neighbours(slicer: &Slicer<'_>, levels: &[Rat]) -> Result<(), String> {
+    let zs = crate::levelset::check::vertex_heights(slicer.mesh());
+    let four = Rat::from_integer(4.into());
+    for c in levels {
+        let Ok(i) = zs.binary_search(c) else {
+            continue;
+        };
+        if let Some(next) = zs.get(i + 1) {
+            check_neighbours(slicer, c, &((next - c) / &four), false)?;
+        }
+        if i > 0 {
+            check_neighbours(slicer, c, &((&zs[i - 1] - c) / &four), true)?;
+        }
+    }
+    Ok(())
+}
