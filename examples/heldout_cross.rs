@@ -17,11 +17,14 @@
 //! regular contours beside it). One line per file; exits with 1 when a
 //! check fails or an accepted mesh fails to slice.
 
+#[path = "support/heldout.rs"]
+mod heldout;
+
 use std::time::Instant;
 use wmslice::datasets::cross_check::{check_all_neighbours, check_mirror};
 use wmslice::datasets::slab::heights_and_midpoints;
 use wmslice::exact::parse_rational;
-use wmslice::mesh::prepare::{prepare_exact_with, Repairs};
+use wmslice::mesh::prepare::Repairs;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
@@ -45,20 +48,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let repairs = Repairs::from_flags(weld, drop);
     let mut failed = 0;
     for path in &paths {
-        let name = std::path::Path::new(path)
-            .file_name()
-            .map_or(path.clone(), |n| n.to_string_lossy().into_owned());
-        let (mesh, exact) = match wmslice::mesh::io::load_exact(std::path::Path::new(path)) {
-            Ok((mesh, _, exact)) => (mesh, exact),
-            Err(e) => {
-                println!("unread    {name}: {e}");
-                continue;
-            }
-        };
-        let mesh = match prepare_exact_with(mesh, &exact, snap.as_ref(), repairs) {
-            Ok(p) => p.mesh,
-            Err(e) => {
-                println!("unsnapped {name}: {e}");
+        let name = heldout::file_name(path);
+        let mesh = match heldout::load(path, snap.as_ref(), repairs) {
+            Ok(mesh) => mesh,
+            Err(line) => {
+                println!("{line}");
                 continue;
             }
         };
@@ -66,11 +60,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             println!("refused   {name}");
             continue;
         };
-        let all = heights_and_midpoints(&mesh);
-        let n = levels.min(all.len());
-        let picked: Vec<_> = (0..n)
-            .map(|i| all[i * (all.len() - 1) / (n - 1).max(1)].clone())
-            .collect();
+        let picked = heldout::evenly(&heights_and_midpoints(&mesh), levels);
+        let n = picked.len();
         let t = Instant::now();
         let result = check_mirror(&mesh, &picked)
             .map_err(|e| format!("mirror: {e}"))

@@ -17,9 +17,12 @@
 //! ([`wmslice::oracle::compare::compare_levels`]). One line per file; exits
 //! with 1 when they disagree anywhere.
 
+#[path = "support/heldout.rs"]
+mod heldout;
+
 use wmslice::datasets::slab::heights_and_midpoints;
 use wmslice::exact::parse_rational;
-use wmslice::mesh::prepare::{prepare_exact_with, CoincidentVertices, Repairs};
+use wmslice::mesh::prepare::{CoincidentVertices, Repairs};
 use wmslice::oracle::compare::{compare_levels, compare_self_intersections, Coverage};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -39,20 +42,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let mut disagreed = 0;
     for path in &paths {
-        let name = std::path::Path::new(path)
-            .file_name()
-            .map_or(path.clone(), |n| n.to_string_lossy().into_owned());
-        let (mesh, exact) = match wmslice::mesh::io::load_exact(std::path::Path::new(path)) {
-            Ok((mesh, _, exact)) => (mesh, exact),
-            Err(e) => {
-                println!("unread    {name}: {e}");
-                continue;
-            }
-        };
-        let mesh = match prepare_exact_with(mesh, &exact, snap.as_ref(), repairs) {
-            Ok(p) => p.mesh,
-            Err(e) => {
-                println!("unsnapped {name}: {e}");
+        let name = heldout::file_name(path);
+        let mesh = match heldout::load(path, snap.as_ref(), repairs) {
+            Ok(mesh) => mesh,
+            Err(line) => {
+                println!("{line}");
                 continue;
             }
         };
@@ -70,11 +64,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             println!("refused   {name}: {intersections}");
             continue;
         }
-        let all = heights_and_midpoints(&mesh);
-        let n = levels.min(all.len());
-        let picked: Vec<_> = (0..n)
-            .map(|i| all[i * (all.len() - 1) / (n - 1).max(1)].clone())
-            .collect();
+        let picked = heldout::evenly(&heights_and_midpoints(&mesh), levels);
+        let n = picked.len();
         let mut cov = Coverage::default();
         match compare_levels(&mesh, &picked, &mut cov) {
             Ok(()) => println!("agree     {name}: {intersections}; {n} levels"),
