@@ -12,12 +12,15 @@
 //! vertex height and between with every invariant of SPEC section 7
 //! (`check_level_invariants`), and its critical values
 //! (`critical::analyze`) must equal the slow path's (the full level set
-//! at every vertex height, `critical::brute_force`). An internal error on
+//! at every vertex height, `critical::brute_force`), and the slicer must
+//! agree with its z-mirror and with the regular levels beside each vertex
+//! height (`datasets::cross_check`). An internal error on
 //! an accepted mesh is the failure this target exists to find.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
 use wmslice::critical::{analyze, brute_force};
+use wmslice::datasets::cross_check::{check_all_neighbours, check_mirror};
 use wmslice::datasets::slab::{heights_and_midpoints, Slab};
 use wmslice::exact::predicates::is_degenerate_triangle;
 use wmslice::exact::rational::Rat;
@@ -152,5 +155,11 @@ fuzz_target!(|data: &[u8]| {
             "critical values differ from the slow path\n{mesh:?}"
         ),
         Err(e) => panic!("internal error on an accepted mesh (slow path): {e}\n{mesh:?}"),
+    }
+    // The slicer against itself: its z-mirror and the regular levels
+    // beside each vertex height (`datasets::cross_check`).
+    let some = &levels[..levels.len().min(12)];
+    if let Err(e) = check_mirror(&mesh, some).and_then(|()| check_all_neighbours(&slicer, some)) {
+        panic!("{e}\n{mesh:?}");
     }
 });

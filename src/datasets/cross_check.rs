@@ -5,13 +5,14 @@
 //! - a z-mirror ([`check_mirror`]): mirroring the mesh in z (faces turned
 //!   to stay outward) turns the material just above `c` into the material
 //!   just below `-c`. So the mirror's L- at `-c` is the original's L+ at
-//!   `c` and its L+ the original's L-, loop for loop (same mesh elements in
-//!   the same order, roles, parents, collapse, exact areas); its S_O is
+//!   `c` and its L+ the original's L-, loop for loop (same mesh elements
+//!   in the same order, roles, parents, collapse, exact areas). Its S_O is
 //!   the original's loop for loop where no saddle lies on the plane, and
 //!   has the same steps and total area where one does (SPEC 5 pairs a
-//!   saddle's branches across the sectors below, and below is mirrored); faces up become faces down (same faces, same area,
-//!   boundaries reversed), ridges become valleys, minima maxima; saddles
-//!   keep their branches.
+//!   saddle's branches across the sectors below, and below is mirrored).
+//!   Faces up become faces down (same faces, same area, boundaries
+//!   reversed), ridges become valleys, minima maxima; saddles keep their
+//!   branches.
 //! - the neighbouring regular levels ([`check_neighbours`]): L+ at `c`
 //!   crosses exactly the edges, in the same order, of the contour at every
 //!   regular level just above (L- likewise below), with the same roles and
@@ -65,9 +66,15 @@ pub fn element(topo: &Topology, c: &CutPoint) -> Element {
     }
 }
 
-/// A cyclic sequence as its least rotation.
+/// A cyclic sequence as its least rotation (one that starts at a least
+/// element; a loop's elements are nearly all distinct, so this is about
+/// linear).
 pub fn canonical<T: Ord + Clone>(seq: &[T]) -> Vec<T> {
+    let Some(least) = seq.iter().min() else {
+        return Vec::new();
+    };
     (0..seq.len())
+        .filter(|&r| &seq[r] == least)
         .map(|r| {
             seq[r..]
                 .iter()
@@ -321,6 +328,16 @@ pub fn check_neighbours(slicer: &Slicer<'_>, c: &Rat, d: &Rat, below: bool) -> R
             "{which} at {c}: {} loops, the regular level beside it {}",
             ours.len(),
             theirs[0].len()
+        ));
+    }
+    // Three levels in one regular interval: one structure.
+    let structure = |s: &[LoopFacts]| s.iter().map(|l| l.0.clone()).collect::<Vec<_>>();
+    if theirs[1..]
+        .iter()
+        .any(|t| structure(t) != structure(&theirs[0]))
+    {
+        return Err(format!(
+            "the regular levels beside {c} ({which} side) differ among themselves"
         ));
     }
     let three = Rat::from_integer(3.into());
