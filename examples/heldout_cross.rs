@@ -23,44 +23,16 @@ mod heldout;
 use std::time::Instant;
 use wmslice::datasets::cross_check::{check_all_neighbours, check_mirror};
 use wmslice::datasets::slab::heights_and_midpoints;
-use wmslice::exact::parse_rational;
-use wmslice::mesh::prepare::Repairs;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut args = std::env::args().skip(1);
-    let (mut snap, mut levels, mut paths) = (None, 20usize, Vec::new());
-    let (mut weld, mut drop) = (false, false);
-    while let Some(a) = args.next() {
-        match a.as_str() {
-            "--weld" => weld = true,
-            "--drop-collapsed" => drop = true,
-            "--snap" => snap = Some(parse_rational(&args.next().ok_or("--snap needs Q")?)?),
-            "--levels" => levels = args.next().ok_or("--levels needs N")?.parse()?,
-            _ => paths.push(a),
-        }
-    }
-    if paths.is_empty() {
-        return Err(
-            "usage: heldout_cross [--weld] [--drop-collapsed] [--snap Q] [--levels N] MESH..."
-                .into(),
-        );
-    }
-    let repairs = Repairs::from_flags(weld, drop);
+    let args = heldout::Args::parse("heldout_cross", 20)?;
     let mut failed = 0;
-    for path in &paths {
-        let name = heldout::file_name(path);
-        let mesh = match heldout::load(path, snap.as_ref(), repairs) {
-            Ok(mesh) => mesh,
-            Err(line) => {
-                println!("{line}");
-                continue;
-            }
-        };
+    for (name, mesh) in heldout::meshes(&args) {
         let Ok(slicer) = wmslice::Slicer::new(&mesh) else {
             println!("refused   {name}");
             continue;
         };
-        let picked = heldout::evenly(&heights_and_midpoints(&mesh), levels);
+        let picked = heldout::evenly(&heights_and_midpoints(&mesh), args.levels);
         let n = picked.len();
         let t = Instant::now();
         let result = check_mirror(&mesh, &picked)
@@ -80,7 +52,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     if failed > 0 {
-        eprintln!("{failed} of {} files failed", paths.len());
+        eprintln!("{failed} of {} files failed", args.paths.len());
         std::process::exit(1);
     }
     Ok(())

@@ -4,11 +4,12 @@
 //!
 //! ```sh
 //! cargo run --release --features cgal-oracle --example heldout_oracle -- \
-//!     [--weld] [--snap Q] [--levels N] MESH...
+//!     [--weld] [--drop-collapsed] [--snap Q] [--levels N] MESH...
 //! ```
 //!
 //! For each file, the mesh as sliced (read, welded with `--weld`, snapped
-//! to `Q` when given, degenerate faces flipped away): validation's self-intersection verdict
+//! to `Q` when given, collapsed faces dropped with `--drop-collapsed`,
+//! degenerate faces flipped away): validation's self-intersection verdict
 //! and face pairs against CGAL's
 //! ([`wmslice::oracle::compare::compare_self_intersections`]; skipped when
 //! the topology has issues), then, when the slicer accepts the mesh, the
@@ -21,35 +22,12 @@
 mod heldout;
 
 use wmslice::datasets::slab::heights_and_midpoints;
-use wmslice::exact::parse_rational;
-use wmslice::mesh::prepare::{CoincidentVertices, Repairs};
 use wmslice::oracle::compare::{compare_levels, compare_self_intersections, Coverage};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut args = std::env::args().skip(1);
-    let (mut snap, mut levels, mut paths) = (None, 40usize, Vec::new());
-    let mut repairs = Repairs::default();
-    while let Some(a) = args.next() {
-        match a.as_str() {
-            "--weld" => repairs.coincident = CoincidentVertices::Weld,
-            "--snap" => snap = Some(parse_rational(&args.next().ok_or("--snap needs Q")?)?),
-            "--levels" => levels = args.next().ok_or("--levels needs N")?.parse()?,
-            _ => paths.push(a),
-        }
-    }
-    if paths.is_empty() {
-        return Err("usage: heldout_oracle [--weld] [--snap Q] [--levels N] MESH...".into());
-    }
+    let args = heldout::Args::parse("heldout_oracle", 40)?;
     let mut disagreed = 0;
-    for path in &paths {
-        let name = heldout::file_name(path);
-        let mesh = match heldout::load(path, snap.as_ref(), repairs) {
-            Ok(mesh) => mesh,
-            Err(line) => {
-                println!("{line}");
-                continue;
-            }
-        };
+    for (name, mesh) in heldout::meshes(&args) {
         let intersections = match compare_self_intersections(&mesh) {
             Ok(None) => "topology has issues".to_string(),
             Ok(Some(true)) => "both find self-intersections".to_string(),
@@ -64,7 +42,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             println!("refused   {name}: {intersections}");
             continue;
         }
-        let picked = heldout::evenly(&heights_and_midpoints(&mesh), levels);
+        let picked = heldout::evenly(&heights_and_midpoints(&mesh), args.levels);
         let n = picked.len();
         let mut cov = Coverage::default();
         match compare_levels(&mesh, &picked, &mut cov) {
@@ -76,7 +54,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     if disagreed > 0 {
-        eprintln!("{disagreed} of {} files disagree", paths.len());
+        eprintln!("{disagreed} of {} files disagree", args.paths.len());
         std::process::exit(1);
     }
     Ok(())
