@@ -456,6 +456,12 @@ fn crossing_i128(a: [f64; 3], b: [f64; 3], level: &Level) -> Option<Scaled> {
         };
         (coord(ax, bx)?, coord(ay, by)?)
     };
+    // The checked sums can be exactly -2^127, which has no negation in
+    // `i128` (`-x` would wrap to itself: the point's sign flipped); |x|,
+    // |y| < 2^127 keeps every holder's negation and `unsigned_abs` exact.
+    if x == i128::MIN || y == i128::MIN {
+        return None;
+    }
     let (x, y, w) = if w < 0 { (-x, -y, -w) } else { (x, y, w) };
     if w == 0 || w >= 1 << 126 {
         return None;
@@ -780,7 +786,76 @@ mod tests {
         assert_eq!(p.y, parse_rational("9/5").unwrap());
     }
 
+    /// Found by the `adversarial` fuzz target: a product of exactly
+    /// `-2^127` (x = 2^39 q dz with q = 2^48, dz = -2^40) negated in
+    /// `i128` wrapped to itself, and the crossing's x came out `-2^39`.
+    #[test]
+    fn a_crossing_product_of_exactly_minus_two_to_the_127_keeps_its_sign() {
+        let (a, b) = (
+            [2f64.powi(39), 1.0, 2f64.powi(39)],
+            [2f64.powi(39), 1.0, -2f64.powi(39)],
+        );
+        let level = Arc::new(Level::new(Rat::new(1.into(), BigInt::from(1) << 48u32)));
+        let p = LoopPoint::on_edge_with(a, b, &level, None)
+            .0
+            .exact()
+            .into_owned();
+        assert_eq!(p.x, rat_from_f64(2f64.powi(39)));
+        assert_eq!(p.y, Rat::from_integer(1.into()));
+        assert_eq!(p, Point2::on_edge_reference(a, b, &level));
+    }
+
     proptest::proptest! {
+        /// The per-edge integer path at the limits of `i128`: coordinates
+        /// of at most 40 binary places, powers of two and their
+        /// neighbours (so that products meet `2^127` exactly or nearly:
+        /// the case above), `b` sharing `a`'s x or y at times, levels
+        /// `p / 2^m` with `m` up to 81, equal to the big-rational
+        /// reference.
+        #[test]
+        fn edge_crossing_at_the_limits_of_i128_equals_the_reference(
+            ka in proptest::array::uniform3((proptest::sample::select(vec![0u32, 1, 38, 39]), -1i64..=1, proptest::bool::ANY)),
+            kb in proptest::array::uniform3((proptest::sample::select(vec![0u32, 1, 38, 39]), -1i64..=1, proptest::bool::ANY)),
+            same in proptest::array::uniform2(proptest::bool::ANY),
+            p in (0u32..80, -1i64..=1, proptest::bool::ANY), m in 40u32..82
+        ) {
+            let v = |(k, off, neg): (u32, i64, bool)| {
+                let x = ((1i64 << k) + off) as f64;
+                if neg { -x } else { x }
+            };
+            let (a, mut b) = (ka.map(v), kb.map(v));
+            for i in 0..2 {
+                if same[i] {
+                    b[i] = a[i];
+                }
+            }
+            proptest::prop_assume!(a[2] != b[2]);
+            let level = Arc::new(Level::new(Rat::new(BigInt::from(v(p) as i64), BigInt::from(1) << m)));
+            let (fast, _) = LoopPoint::on_edge_with(a, b, &level, None);
+            proptest::prop_assert_eq!(fast.exact().into_owned(), Point2::on_edge_reference(a, b, &level));
+        }
+
+        /// Crossings whose products land on `2^127` or beside it: x of
+        /// `2^k`, a z span of `2^j` across zero, the level `p / 2^m` with
+        /// `k + j + m` within one of 127, an odd y so that the common
+        /// grid is the integers.
+        #[test]
+        fn crossing_products_at_two_to_the_127_equal_the_reference(
+            k in 30u32..40, j in 30u32..=40, delta in -1i32..=1, p in proptest::sample::select(vec![-3i64, -1, 1, 3]),
+            signs in proptest::array::uniform3(proptest::bool::ANY), dx in -1i64..=1, y in proptest::sample::select(vec![1.0, 3.0, -1.0])
+        ) {
+            let m = 127 - k as i32 - j as i32 + delta;
+            proptest::prop_assume!((0..=81).contains(&m));
+            let sign = |neg: bool, v: f64| if neg { -v } else { v };
+            let x = sign(signs[0], 2f64.powi(k as i32));
+            let z = sign(signs[1], 2f64.powi(j as i32 - 1));
+            let a = [x, y, z];
+            let b = [x + dx as f64, sign(signs[2], y), -z];
+            let level = Arc::new(Level::new(Rat::new(BigInt::from(p), BigInt::from(1) << m as u32)));
+            let (fast, _) = LoopPoint::on_edge_with(a, b, &level, None);
+            proptest::prop_assert_eq!(fast.exact().into_owned(), Point2::on_edge_reference(a, b, &level));
+        }
+
         /// The i128 fast path equals the big-rational reference: integer,
         /// dyadic and arbitrary double coordinates, levels strictly between
         /// the ends (exact fractions of the span, and decimals).
