@@ -21,7 +21,7 @@
 mod heldout;
 
 use std::time::Instant;
-use wmslice::datasets::cross_check::{check_all_neighbours, check_mirror};
+use wmslice::datasets::cross_check::{check_all_neighbours, check_mirror, check_x_mirror};
 use wmslice::datasets::slab::heights_and_midpoints;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -36,13 +36,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let n = picked.len();
         let t = Instant::now();
         let result = check_mirror(&mesh, &picked)
+            .and_then(|()| check_x_mirror(&mesh, &picked))
             .map_err(|e| format!("mirror: {e}"))
             .and_then(|()| {
                 check_all_neighbours(&slicer, &picked).map_err(|e| format!("neighbours: {e}"))
             });
         match result {
             Ok(()) => println!(
-                "agree     {name}: {n} levels, mirror and neighbours ({:.2} s)",
+                "agree     {name}: {n} levels, mirrors and neighbours ({:.2} s)",
                 t.elapsed().as_secs_f64()
             ),
             Err(e) => {

@@ -250,9 +250,13 @@ fn a_ridge_ring_with_material_on_both_sides_is_not_collapsed() {
 }
 
 /// The z-mirror at every vertex height and between them
-/// ([`wmslice::datasets::cross_check::check_mirror`]).
+/// ([`wmslice::datasets::cross_check::check_mirror`]), and the x-mirror
+/// ([`wmslice::datasets::cross_check::check_x_mirror`]).
 fn check_mirror(mesh: &Mesh) -> Result<(), TestCaseError> {
-    cross_check::check_mirror(mesh, &heights_and_midpoints(mesh)).map_err(TestCaseError::fail)
+    let levels = heights_and_midpoints(mesh);
+    cross_check::check_mirror(mesh, &levels)
+        .and_then(|()| cross_check::check_x_mirror(mesh, &levels))
+        .map_err(TestCaseError::fail)
 }
 
 #[test]

@@ -1,5 +1,5 @@
 //! Input: an accepted mesh and exact levels. Output: `Ok` when the slicer
-//! agrees with itself under two transformations whose effect is known
+//! agrees with itself under transformations whose effect is known
 //! exactly, or the first disagreement, named:
 //!
 //! - a z-mirror ([`check_mirror`]): mirroring the mesh in z (faces turned
@@ -13,6 +13,8 @@
 //!   Faces up become faces down (same faces, same area, boundaries
 //!   reversed), ridges become valleys, minima maxima; saddles keep their
 //!   branches.
+//! - an x-mirror ([`check_x_mirror`]): every loop reversed, nothing else
+//!   changed; it runs the number paths on the other side of zero.
 //! - the neighbouring regular levels ([`check_neighbours`]): L+ at `c`
 //!   crosses exactly the edges, in the same order, of the contour at every
 //!   regular level just above (L- likewise below), with the same roles and
@@ -176,9 +178,21 @@ fn undirected(ids: &[u32], closed: bool) -> Vec<u32> {
     }
 }
 
-/// Everything but the loops of a level set, mirrored: regions with their
-/// facing (up and down exchanged), faces, area and boundaries (reversed);
-/// ridges and valleys exchanged; minima and maxima exchanged; saddles.
+/// Which mirror a level set is seen through.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Mirror {
+    /// As it is.
+    None,
+    /// In z: up and down, ridges and valleys, minima and maxima exchanged,
+    /// boundaries reversed.
+    Z,
+    /// In x: boundaries reversed, nothing exchanged.
+    X,
+}
+
+/// Everything but the loops of a level set, seen through `mirror`:
+/// regions with their facing, faces, area and boundaries; ridges and
+/// valleys; minima and maxima; saddles.
 type Rest = (
     Vec<(Facing, Vec<u32>, Rat, Vec<Vec<Element>>)>,
     Vec<(RidgeKind, bool, Vec<u32>)>,
@@ -186,8 +200,9 @@ type Rest = (
     Vec<(u32, u32)>,
 );
 
-fn rest(topo: &Topology, ls: &LevelSet, mirror: bool) -> Rest {
-    let facing = |f: Facing| match (f, mirror) {
+fn rest(topo: &Topology, ls: &LevelSet, mirror: Mirror) -> Rest {
+    let swap = mirror == Mirror::Z;
+    let facing = |f: Facing| match (f, swap) {
         (Facing::Up, true) => Facing::Down,
         (Facing::Down, true) => Facing::Up,
         (f, _) => f,
@@ -201,7 +216,7 @@ fn rest(topo: &Topology, ls: &LevelSet, mirror: bool) -> Rest {
                 .iter()
                 .map(|l| {
                     let mut seq: Vec<Element> = l.cuts.iter().map(|c| element(topo, c)).collect();
-                    if mirror {
+                    if mirror != Mirror::None {
                         seq.reverse();
                     }
                     canonical(&seq)
@@ -217,7 +232,7 @@ fn rest(topo: &Topology, ls: &LevelSet, mirror: bool) -> Rest {
         .ridges
         .iter()
         .map(|r| {
-            let kind = match (r.kind, mirror) {
+            let kind = match (r.kind, swap) {
                 (RidgeKind::Ridge, true) => RidgeKind::Valley,
                 (RidgeKind::Valley, true) => RidgeKind::Ridge,
                 (k, _) => k,
@@ -231,7 +246,7 @@ fn rest(topo: &Topology, ls: &LevelSet, mirror: bool) -> Rest {
         .extrema
         .iter()
         .map(|p| {
-            let kind = match (p.kind, mirror) {
+            let kind = match (p.kind, swap) {
                 (ExtremumKind::Min, true) => ExtremumKind::Max,
                 (ExtremumKind::Max, true) => ExtremumKind::Min,
                 (k, _) => k,
@@ -284,12 +299,63 @@ pub fn check_mirror(mesh: &Mesh, levels: &[Rat]) -> Result<(), String> {
                 "S_O at {c} (a saddle level): its steps or its total area differ from the mirror's"
             ));
         }
-        let (r, s) = (rest(ta, &up, false), rest(tb, &down, true));
-        let names = ["face regions", "ridges", "extrema", "saddles"];
-        let differs = [r.0 != s.0, r.1 != s.1, r.2 != s.2, r.3 != s.3];
-        if let Some(i) = differs.iter().position(|&d| d) {
-            return Err(format!("{} at {c} differ from the mirror's", names[i]));
+        same_rest(c, rest(ta, &up, Mirror::None), rest(tb, &down, Mirror::Z))?;
+    }
+    Ok(())
+}
+
+/// The first difference between two level sets' [`Rest`], if any.
+fn same_rest(c: &Rat, r: Rest, s: Rest) -> Result<(), String> {
+    let names = ["face regions", "ridges", "extrema", "saddles"];
+    let differs = [r.0 != s.0, r.1 != s.1, r.2 != s.2, r.3 != s.3];
+    match differs.iter().position(|&d| d) {
+        Some(i) => Err(format!("{} at {c} differ from the mirror's", names[i])),
+        None => Ok(()),
+    }
+}
+
+/// The mesh mirrored in x, faces turned so that they stay outward.
+pub fn x_mirrored(mesh: &Mesh) -> Mesh {
+    let mut m = mesh.clone();
+    for p in &mut m.positions {
+        p[0] = -p[0];
+    }
+    for f in &mut m.faces {
+        f.swap(1, 2);
+    }
+    m
+}
+
+/// The x-mirror check at each of `levels`: the mirror's level set at `c`
+/// is the original's with every loop (S_O, L-, L+, dF) reversed, the same
+/// roles, parents, collapse and exact areas (a loop's points are mirrored
+/// and its direction reversed: the signed area is unchanged), and the
+/// same regions' facing, ridges, extrema and saddles. Nothing is
+/// exchanged, and a saddle's branches pair the same way (its fan order and
+/// the directions at it are both reversed), so S_O is compared loop for
+/// loop at a saddle too. Every x coordinate and crossing changes sign:
+/// the number paths are run on the other side of zero.
+pub fn check_x_mirror(mesh: &Mesh, levels: &[Rat]) -> Result<(), String> {
+    let m = x_mirrored(mesh);
+    let a = Slicer::new(mesh).map_err(|e| format!("the mesh: {e}"))?;
+    let b = Slicer::new(&m).map_err(|e| format!("the x-mirror: {e}"))?;
+    let (ta, tb) = (a.topology(), b.topology());
+    let reversed =
+        |l: &Loop| -> Vec<Element> { l.cuts.iter().rev().map(|c| element(ta, c)).collect() };
+    for c in levels {
+        let p = a.slice_at(c).map_err(|e| format!("at {c}: {e}"))?;
+        let q = b
+            .slice_at(c)
+            .map_err(|e| format!("the x-mirror at {c}: {e}"))?;
+        let families = [
+            ("S_O (x-mirror)", &p.contours, &q.contours),
+            ("L- (x-mirror)", &p.below, &q.below),
+            ("L+ (x-mirror)", &p.above, &q.above),
+        ];
+        for (what, x, y) in families {
+            same_family(what, c, &shape(x, reversed), &limit_shape(tb, y))?;
         }
+        same_rest(c, rest(ta, &p, Mirror::X), rest(tb, &q, Mirror::None))?;
     }
     Ok(())
 }
