@@ -5,7 +5,8 @@
 # the parsers (parse_*), slice_invariants, adversarial (slivers, overlapping
 # and touching copies, f32 rounding, 2^k scales, coarse snap grids, corners
 # welded or not, collapsed faces refused or dropped; the slices, the
-# critical values, the z-mirror and the neighbouring regular levels), and
+# critical values, the z- and x-mirrors and the neighbouring regular
+# levels), and
 # slice_oracle when the CGAL,
 # GMP, MPFR and Boost headers are present. Each run starts from the seeds
 # in fuzz/corpus/seeds/TARGET and grows a scratch corpus in
