@@ -58,7 +58,7 @@ pub enum Element {
 }
 
 /// The element a cut lies on.
-pub fn element(topo: &Topology, c: &CutPoint) -> Element {
+fn element(topo: &Topology, c: &CutPoint) -> Element {
     match c {
         CutPoint::AtVertex(v) => Element::Vertex(v.0),
         CutPoint::OnEdge(e) => {
@@ -71,7 +71,7 @@ pub fn element(topo: &Topology, c: &CutPoint) -> Element {
 /// A cyclic sequence as its least rotation (one that starts at a least
 /// element; a loop's elements are nearly all distinct, so this is about
 /// linear).
-pub fn canonical<T: Ord + Clone>(seq: &[T]) -> Vec<T> {
+fn canonical<T: Ord + Clone>(seq: &[T]) -> Vec<T> {
     let Some(least) = seq.iter().min() else {
         return Vec::new();
     };
@@ -94,7 +94,7 @@ pub type LoopFacts = (Vec<Element>, Role, Option<Vec<Element>>, bool, Rat);
 
 /// A family as comparable facts, sorted by sequence; `seq` gives a loop's
 /// elements.
-pub fn shape(loops: &[Loop], seq: impl Fn(&Loop) -> Vec<Element>) -> Vec<LoopFacts> {
+fn shape(loops: &[Loop], seq: impl Fn(&Loop) -> Vec<Element>) -> Vec<LoopFacts> {
     let keys: Vec<Vec<Element>> = loops.iter().map(|l| canonical(&seq(l))).collect();
     let mut out: Vec<LoopFacts> = loops
         .iter()
