@@ -830,7 +830,10 @@ mod tests {
                 }
             }
             proptest::prop_assume!(a[2] != b[2]);
-            let level = Arc::new(Level::new(Rat::new(BigInt::from(v(p) as i64), BigInt::from(1) << m)));
+            let (k, off, neg) = p;
+            let p = (1i128 << k) + i128::from(off);
+            let p = if neg { -p } else { p };
+            let level = Arc::new(Level::new(Rat::new(BigInt::from(p), BigInt::from(1) << m)));
             let (fast, _) = LoopPoint::on_edge_with(a, b, &level, None);
             proptest::prop_assert_eq!(fast.exact().into_owned(), Point2::on_edge_reference(a, b, &level));
         }
