@@ -20,7 +20,7 @@ use wmslice::exact::rational::{rat_to_f64, rat_to_string, Rat};
 use wmslice::ids::FaceId;
 use wmslice::layers::{height_range, plan_levels, slice_levels_then, LayerPlan};
 use wmslice::levelset::LevelSet;
-use wmslice::mesh::io::{load_bytes_exact, read_file, MeshFormat};
+use wmslice::mesh::io::{load_bytes_exact, load_exact, ExactPositions, LoadError, LoadReport};
 use wmslice::mesh::prepare::{prepare_exact_with, PrepareError, Prepared, Repairs};
 use wmslice::mesh::validate::Severity;
 use wmslice::output::critical::critical_json;
@@ -665,21 +665,10 @@ pub fn load(
     weld: bool,
 ) -> PyResult<Mesh> {
     let shown = path.display().to_string();
-    let bytes = py.detach(|| read_file(&path)).map_err(|source| {
-        let e = wmslice::mesh::io::LoadError::Io {
-            path: path.clone(),
-            source,
-        };
-        load_error(&shown, e)
-    })?;
-    let hint = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .and_then(MeshFormat::from_extension);
+    let read = py.detach(|| load_exact(&path));
     prepared(
         py,
-        &bytes,
-        hint,
+        read,
         &shown,
         snap,
         Repairs::from_flags(weld, drop_collapsed),
@@ -697,24 +686,23 @@ pub fn load_bytes(
     drop_collapsed: bool,
     weld: bool,
 ) -> PyResult<Mesh> {
+    let bytes = data.as_bytes();
+    let read = py.detach(|| load_bytes_exact(bytes, None));
     let repairs = Repairs::from_flags(weld, drop_collapsed);
-    prepared(py, data.as_bytes(), None, "<bytes>", snap, repairs)
+    prepared(py, read, "<bytes>", snap, repairs)
 }
 
-/// A mesh file's bytes parsed, snapped and repaired as asked, validated;
-/// errors name the file as `shown`.
+/// A mesh file as read, snapped and repaired as asked, validated; errors
+/// name the file as `shown`.
 fn prepared(
     py: Python<'_>,
-    bytes: &[u8],
-    hint: Option<MeshFormat>,
+    read: Result<(wmslice::Mesh, LoadReport, ExactPositions), LoadError>,
     shown: &str,
     snap: Option<&Bound<'_, PyAny>>,
     repairs: Repairs,
 ) -> PyResult<Mesh> {
     let q = snap_of(snap)?;
-    let (mesh, _, exact) = py
-        .detach(|| load_bytes_exact(bytes, hint))
-        .map_err(|e| load_error(shown, e))?;
+    let (mesh, _, exact) = read.map_err(|e| load_error(shown, e))?;
     // A 3MF vertex whose transformed position is not a double is placed
     // only by the grid; without one it is the file's error.
     let p = py
