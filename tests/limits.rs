@@ -250,12 +250,15 @@ fn a_ridge_ring_with_material_on_both_sides_is_not_collapsed() {
 }
 
 /// The z-mirror at every vertex height and between them
-/// ([`wmslice::datasets::cross_check::check_mirror`]), and the x-mirror
-/// ([`wmslice::datasets::cross_check::check_x_mirror`]).
+/// ([`wmslice::datasets::cross_check::check_mirror`]), the x-mirror
+/// ([`wmslice::datasets::cross_check::check_x_mirror`]) and the
+/// relabelling ([`wmslice::datasets::cross_check::check_relabelled`]).
 fn check_mirror(mesh: &Mesh) -> Result<(), TestCaseError> {
     let levels = heights_and_midpoints(mesh);
+    let slicer = Slicer::new(mesh).map_err(|e| TestCaseError::fail(e.to_string()))?;
     cross_check::check_mirror(mesh, &levels)
         .and_then(|()| cross_check::check_x_mirror(mesh, &levels))
+        .and_then(|()| cross_check::check_relabelled(&slicer, &levels))
         .map_err(TestCaseError::fail)
 }
 

@@ -20,7 +20,9 @@
 
 use libfuzzer_sys::fuzz_target;
 use wmslice::critical::{analyze, brute_force};
-use wmslice::datasets::cross_check::{check_all_neighbours, check_mirror, check_x_mirror};
+use wmslice::datasets::cross_check::{
+    check_all_neighbours, check_mirror, check_relabelled, check_x_mirror,
+};
 use wmslice::datasets::slab::{heights_and_midpoints, Slab};
 use wmslice::exact::predicates::is_degenerate_triangle;
 use wmslice::exact::rational::Rat;
@@ -156,11 +158,13 @@ fuzz_target!(|data: &[u8]| {
         ),
         Err(e) => panic!("internal error on an accepted mesh (slow path): {e}\n{mesh:?}"),
     }
-    // The slicer against itself: its z- and x-mirrors and the regular levels
-    // beside each vertex height (`datasets::cross_check`).
+    // The slicer against itself: its z- and x-mirrors, a renumbering of its
+    // vertices and faces, and the regular levels beside each vertex height
+    // (`datasets::cross_check`).
     let some = &levels[..levels.len().min(12)];
     if let Err(e) = check_mirror(&mesh, some)
         .and_then(|()| check_x_mirror(&mesh, some))
+        .and_then(|()| check_relabelled(&slicer, some))
         .and_then(|()| check_all_neighbours(&slicer, some))
     {
         panic!("{e}\n{mesh:?}");

@@ -21,6 +21,12 @@
 //!   parents, and each loop's exact area is the limit at `c` of that
 //!   loop's area, a quadratic in the level there (extrapolated exactly
 //!   from three levels).
+//! - a relabelling ([`check_relabelled`]): the same surface with its
+//!   vertices and faces renumbered and each face's corners rotated. Every
+//!   decision the slicer makes is geometric, so with the new ids mapped
+//!   back everything is the same: S_O, L- and L+ loop for loop (saddles
+//!   included), regions, ridges, extrema and saddles. A tie broken by
+//!   element ids would show here.
 //!
 //! Loops are compared by mesh element ids (vertices and edges, an edge by
 //! its two vertex ids), never by coordinates. Shared by `tests/limits.rs`
@@ -122,7 +128,7 @@ pub fn limit_shape(topo: &Topology, loops: &[Loop]) -> Vec<LoopFacts> {
 fn same_family(what: &str, c: &Rat, a: &[LoopFacts], b: &[LoopFacts]) -> Result<(), String> {
     if a.len() != b.len() {
         return Err(format!(
-            "{what} at {c}: {} loops, the mirror's {}",
+            "{what} at {c}: {} loops against {}",
             a.len(),
             b.len()
         ));
@@ -299,17 +305,23 @@ pub fn check_mirror(mesh: &Mesh, levels: &[Rat]) -> Result<(), String> {
                 "S_O at {c} (a saddle level): its steps or its total area differ from the mirror's"
             ));
         }
-        same_rest(c, rest(ta, &up, Mirror::None), rest(tb, &down, Mirror::Z))?;
+        same_rest(
+            c,
+            rest(ta, &up, Mirror::None),
+            rest(tb, &down, Mirror::Z),
+            "the mirror",
+        )?;
     }
     Ok(())
 }
 
-/// The first difference between two level sets' [`Rest`], if any.
-fn same_rest(c: &Rat, r: Rest, s: Rest) -> Result<(), String> {
+/// The first difference between two level sets' [`Rest`], if any; `other`
+/// names the second ("the mirror").
+fn same_rest(c: &Rat, r: Rest, s: Rest, other: &str) -> Result<(), String> {
     let names = ["face regions", "ridges", "extrema", "saddles"];
     let differs = [r.0 != s.0, r.1 != s.1, r.2 != s.2, r.3 != s.3];
     match differs.iter().position(|&d| d) {
-        Some(i) => Err(format!("{} at {c} differ from the mirror's", names[i])),
+        Some(i) => Err(format!("{} at {c} differ from {other}'s", names[i])),
         None => Ok(()),
     }
 }
@@ -355,7 +367,163 @@ pub fn check_x_mirror(mesh: &Mesh, levels: &[Rat]) -> Result<(), String> {
         for (what, x, y) in families {
             same_family(what, c, &shape(x, reversed), &limit_shape(tb, y))?;
         }
-        same_rest(c, rest(ta, &p, Mirror::X), rest(tb, &q, Mirror::None))?;
+        same_rest(
+            c,
+            rest(ta, &p, Mirror::X),
+            rest(tb, &q, Mirror::None),
+            "the x-mirror",
+        )?;
+    }
+    Ok(())
+}
+
+/// A renumbering of `n` ids: `i -> (i k + n / 2) mod n` with `k` the
+/// first number from about `0.618 n` up that is prime to `n`, so that
+/// neighbours in the old order are scattered and no order is kept or
+/// simply reversed.
+fn scattered(n: usize) -> Vec<u32> {
+    fn gcd(a: usize, b: usize) -> usize {
+        if b == 0 {
+            a
+        } else {
+            gcd(b, a % b)
+        }
+    }
+    let mut k = (n * 618 / 1000).max(1);
+    while gcd(k, n.max(1)) != 1 {
+        k += 1;
+    }
+    let (k, n) = (k as u128, n as u128);
+    (0..n).map(|i| ((i * k + n / 2) % n) as u32).collect()
+}
+
+/// The same surface renumbered: vertex `v` becomes `vertices[v]`, face `f`
+/// becomes face `faces[f]` with its corners rotated by `f mod 3` (which
+/// keeps its orientation). Returns the mesh and, for each new vertex and
+/// face id, the old one.
+fn relabelled(mesh: &Mesh) -> (Mesh, Vec<u32>, Vec<u32>) {
+    let vertices = scattered(mesh.positions.len());
+    let faces = scattered(mesh.faces.len());
+    let mut old_vertex = vec![0; vertices.len()];
+    let mut positions = vec![[0.0; 3]; vertices.len()];
+    for (v, &new) in vertices.iter().enumerate() {
+        old_vertex[new as usize] = v as u32;
+        positions[new as usize] = mesh.positions[v];
+    }
+    let mut old_face = vec![0; faces.len()];
+    let mut triples = vec![[0; 3]; faces.len()];
+    for (f, &new) in faces.iter().enumerate() {
+        old_face[new as usize] = f as u32;
+        let corners = mesh.faces[f].map(|v| vertices[v.0 as usize]);
+        triples[new as usize] = std::array::from_fn(|i| corners[(i + f % 3) % 3]);
+    }
+    (Mesh::from_raw(positions, triples), old_vertex, old_face)
+}
+
+/// An element with its vertex ids renamed by `old`.
+fn renamed_element(e: Element, old: &[u32]) -> Element {
+    match e {
+        Element::Vertex(v) => Element::Vertex(old[v as usize]),
+        Element::Edge(a, b) => {
+            let (a, b) = (old[a as usize], old[b as usize]);
+            Element::Edge(a.min(b), a.max(b))
+        }
+    }
+}
+
+/// A loop's elements renamed by `old`, as its least rotation.
+fn renamed_seq(seq: &[Element], old: &[u32]) -> Vec<Element> {
+    canonical(
+        &seq.iter()
+            .map(|&e| renamed_element(e, old))
+            .collect::<Vec<_>>(),
+    )
+}
+
+/// A family's facts with vertex ids renamed by `old`, sorted again.
+fn renamed_family(family: Vec<LoopFacts>, old: &[u32]) -> Vec<LoopFacts> {
+    let mut out: Vec<LoopFacts> = family
+        .into_iter()
+        .map(|(seq, role, parent, collapsed, area)| {
+            let parent = parent.map(|p| renamed_seq(&p, old));
+            (renamed_seq(&seq, old), role, parent, collapsed, area)
+        })
+        .collect();
+    out.sort_by(|a, b| a.0.cmp(&b.0));
+    out
+}
+
+/// A [`Rest`] with vertex ids renamed by `old_vertex` and face ids by
+/// `old_face`, every list sorted again (a region's faces too).
+fn renamed_rest(r: Rest, old_vertex: &[u32], old_face: &[u32]) -> Rest {
+    let (regions, ridges, extrema, saddles) = r;
+    let mut regions: Vec<_> = regions
+        .into_iter()
+        .map(|(facing, faces, area, boundary)| {
+            let mut faces: Vec<u32> = faces.iter().map(|&f| old_face[f as usize]).collect();
+            faces.sort_unstable();
+            let mut boundary: Vec<_> = boundary
+                .iter()
+                .map(|l| renamed_seq(l, old_vertex))
+                .collect();
+            boundary.sort();
+            (facing, faces, area, boundary)
+        })
+        .collect();
+    regions.sort_by(|a, b| a.1.cmp(&b.1));
+    let mut ridges: Vec<_> = ridges
+        .into_iter()
+        .map(|(kind, closed, ids)| {
+            let ids: Vec<u32> = ids.iter().map(|&v| old_vertex[v as usize]).collect();
+            (kind, closed, undirected(&ids, closed))
+        })
+        .collect();
+    ridges.sort_by(|a, b| a.2.cmp(&b.2));
+    let mut extrema: Vec<_> = extrema
+        .into_iter()
+        .map(|(v, kind)| (old_vertex[v as usize], kind))
+        .collect();
+    extrema.sort_by_key(|e| e.0);
+    let mut saddles: Vec<_> = saddles
+        .into_iter()
+        .map(|(v, branches)| (old_vertex[v as usize], branches))
+        .collect();
+    saddles.sort();
+    (regions, ridges, extrema, saddles)
+}
+
+/// The relabelling check at each of `levels`: the mesh as the slicer
+/// holds it (degenerate faces already flipped away, so the renumbered
+/// mesh needs no flip, whose order could depend on ids) against
+/// [`relabelled`], its ids mapped back: S_O, L- and L+ loop for loop
+/// (elements in order, roles, parents, collapse, exact areas), and the
+/// same regions (faces, facing, area, boundaries), ridges, extrema and
+/// saddles.
+pub fn check_relabelled(slicer: &Slicer<'_>, levels: &[Rat]) -> Result<(), String> {
+    let (m, old_vertex, old_face) = relabelled(slicer.mesh());
+    let b = Slicer::new(&m).map_err(|e| format!("the relabelled mesh: {e}"))?;
+    let (ta, tb) = (slicer.topology(), b.topology());
+    let identity: Vec<u32> = (0..slicer.mesh().faces.len().max(old_vertex.len()) as u32).collect();
+    for c in levels {
+        let p = slicer.slice_at(c).map_err(|e| format!("at {c}: {e}"))?;
+        let q = b
+            .slice_at(c)
+            .map_err(|e| format!("the relabelled mesh at {c}: {e}"))?;
+        let families = [
+            ("S_O (relabelled)", &p.contours, &q.contours),
+            ("L- (relabelled)", &p.below, &q.below),
+            ("L+ (relabelled)", &p.above, &q.above),
+        ];
+        for (what, x, y) in families {
+            let theirs = renamed_family(limit_shape(tb, y), &old_vertex);
+            same_family(what, c, &limit_shape(ta, x), &theirs)?;
+        }
+        same_rest(
+            c,
+            renamed_rest(rest(ta, &p, Mirror::None), &identity, &identity),
+            renamed_rest(rest(tb, &q, Mirror::None), &old_vertex, &old_face),
+            "the relabelled mesh",
+        )?;
     }
     Ok(())
 }
@@ -446,4 +614,39 @@ pub fn check_all_neighbours(slicer: &Slicer<'_>, levels: &[Rat]) -> Result<(), S
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scattered_is_a_permutation_that_keeps_no_order() {
+        for n in 0..300usize {
+            let p = scattered(n);
+            let mut sorted = p.clone();
+            sorted.sort_unstable();
+            assert_eq!(sorted, (0..n as u32).collect::<Vec<_>>(), "n = {n}");
+            if n >= 3 {
+                let reversed: Vec<u32> = (0..n as u32).rev().collect();
+                assert!(p != sorted && p != reversed, "n = {n}: {p:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn relabelled_keeps_the_surface_and_maps_back() {
+        let mesh = crate::datasets::by_name("double_torus").unwrap().build();
+        let (m, old_vertex, old_face) = relabelled(&mesh);
+        for (new, &old) in old_vertex.iter().enumerate() {
+            assert_eq!(m.positions[new], mesh.positions[old as usize]);
+        }
+        for (new, &old) in old_face.iter().enumerate() {
+            let back = m.faces[new].map(|v| old_vertex[v.0 as usize]);
+            let orig = mesh.faces[old as usize].map(|v| v.0);
+            // The same oriented triangle, its corners rotated.
+            assert!((0..3).any(|r| (0..3).all(|i| back[i] == orig[(i + r) % 3])));
+        }
+        assert_ne!(m.faces, mesh.faces);
+    }
 }
