@@ -2,13 +2,14 @@
 //! against answers derived by hand, against the independent slow path
 //! (`critical::brute_force`: the full level set at every vertex height),
 //! against the loops of the slicer at the regular heights between them,
-//! and against the z-mirror of the mesh.
+//! and against the z-mirror of the mesh and the mesh renumbered.
 
 mod common;
 
 use common::slab;
 use proptest::prelude::*;
 use wmslice::critical::{self, brute_force, CriticalReport, NodeKind};
+use wmslice::datasets::cross_check;
 use wmslice::exact::rational::Rat;
 use wmslice::{datasets, Mesh, Slicer};
 
@@ -116,6 +117,28 @@ fn check_mirror(mesh: &Mesh) -> Result<(), TestCaseError> {
     Ok(())
 }
 
+/// Renumbering the vertices and faces (`cross_check::relabelled`, on the
+/// mesh as sliced) changes nothing but the order of saddles, which are
+/// listed by vertex id; the Reeb graph keeps its nodes' kinds and its
+/// arcs.
+fn check_relabelled(mesh: &Mesh) -> Result<(), TestCaseError> {
+    let slicer = Slicer::new(mesh).expect("accepted");
+    let a = critical::analyze(&slicer).map_err(|e| TestCaseError::fail(e.to_string()))?;
+    let (m, _, _) = cross_check::relabelled(slicer.mesh());
+    let b = report(&m);
+    let sorted = |r: &CriticalReport| {
+        let mut levels = r.levels.clone();
+        for l in &mut levels {
+            l.saddles.sort_unstable();
+        }
+        let mut kinds = kinds(r);
+        kinds.sort_unstable();
+        (levels, kinds, r.reeb.arcs.len())
+    };
+    prop_assert_eq!(sorted(&a), sorted(&b));
+    Ok(())
+}
+
 #[test]
 fn every_dataset_agrees_with_the_slow_path_and_its_mirror() {
     for d in datasets::all() {
@@ -123,6 +146,7 @@ fn every_dataset_agrees_with_the_slow_path_and_its_mirror() {
         check(&mesh).unwrap_or_else(|e| panic!("{}: {e}", d.name));
         check(&mirror(&mesh)).unwrap_or_else(|e| panic!("{} mirrored: {e}", d.name));
         check_mirror(&mesh).unwrap_or_else(|e| panic!("{}: {e}", d.name));
+        check_relabelled(&mesh).unwrap_or_else(|e| panic!("{} relabelled: {e}", d.name));
     }
 }
 
@@ -345,6 +369,7 @@ proptest! {
         let mesh = s.mesh();
         check(&mesh)?;
         check_mirror(&mesh)?;
+        check_relabelled(&mesh)?;
     }
 
     /// Two slabs side by side or stacked with a gap: two components.
@@ -372,6 +397,7 @@ proptest! {
         prop_assume!(wmslice::mesh::validate::validate(&mesh).is_accepted());
         check(&mesh)?;
         check_mirror(&mesh)?;
+        check_relabelled(&mesh)?;
         let flat = quantized(&mesh, f64::from(q));
         prop_assume!(wmslice::mesh::validate::validate(&flat).is_accepted());
         check(&flat)?;

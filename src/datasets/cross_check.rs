@@ -401,7 +401,7 @@ fn scattered(n: usize) -> Vec<u32> {
 /// becomes face `faces[f]` with its corners rotated by `f mod 3` (which
 /// keeps its orientation). Returns the mesh and, for each new vertex and
 /// face id, the old one.
-fn relabelled(mesh: &Mesh) -> (Mesh, Vec<u32>, Vec<u32>) {
+pub fn relabelled(mesh: &Mesh) -> (Mesh, Vec<u32>, Vec<u32>) {
     let vertices = scattered(mesh.positions.len());
     let faces = scattered(mesh.faces.len());
     let mut old_vertex = vec![0; vertices.len()];
