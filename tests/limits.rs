@@ -251,15 +251,23 @@ fn a_ridge_ring_with_material_on_both_sides_is_not_collapsed() {
 
 /// The z-mirror at every vertex height and between them
 /// ([`wmslice::datasets::cross_check::check_mirror`]), the x-mirror
-/// ([`wmslice::datasets::cross_check::check_x_mirror`]) and the
-/// relabelling ([`wmslice::datasets::cross_check::check_relabelled`]).
+/// ([`wmslice::datasets::cross_check::check_x_mirror`]), the
+/// relabelling ([`wmslice::datasets::cross_check::check_relabelled`])
+/// and the far translation
+/// ([`wmslice::datasets::cross_check::check_translated`], always made:
+/// these meshes' coordinates are small integers).
 fn check_mirror(mesh: &Mesh) -> Result<(), TestCaseError> {
     let levels = heights_and_midpoints(mesh);
     let slicer = Slicer::new(mesh).map_err(|e| TestCaseError::fail(e.to_string()))?;
     cross_check::check_mirror(mesh, &levels)
         .and_then(|()| cross_check::check_x_mirror(mesh, &levels))
         .and_then(|()| cross_check::check_relabelled(&slicer, &levels))
+        .and_then(|()| cross_check::check_translated(&slicer, &levels))
         .map_err(TestCaseError::fail)
+        .and_then(|t| match t {
+            Some(_) => Ok(()),
+            None => Err(TestCaseError::fail("no far translation was made")),
+        })
 }
 
 #[test]

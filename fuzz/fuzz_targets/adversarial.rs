@@ -13,15 +13,16 @@
 //! (`check_level_invariants`), and its critical values
 //! (`critical::analyze`) must equal the slow path's (the full level set
 //! at every vertex height, `critical::brute_force`), and the slicer must
-//! agree with its z- and x-mirrors and with the regular levels beside
-//! each vertex height (`datasets::cross_check`). An internal error on an
+//! agree with its z- and x-mirrors, with itself renumbered and moved, and
+//! with the regular levels beside each vertex height
+//! (`datasets::cross_check`). An internal error on an
 //! accepted mesh is the failure this target exists to find.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
 use wmslice::critical::{analyze, brute_force};
 use wmslice::datasets::cross_check::{
-    check_all_neighbours, check_mirror, check_relabelled, check_x_mirror,
+    check_all_neighbours, check_mirror, check_relabelled, check_translated, check_x_mirror,
 };
 use wmslice::datasets::slab::{heights_and_midpoints, Slab};
 use wmslice::exact::predicates::is_degenerate_triangle;
@@ -159,12 +160,14 @@ fuzz_target!(|data: &[u8]| {
         Err(e) => panic!("internal error on an accepted mesh (slow path): {e}\n{mesh:?}"),
     }
     // The slicer against itself: its z- and x-mirrors, a renumbering of its
-    // vertices and faces, and the regular levels beside each vertex height
+    // vertices and faces, the mesh moved as far as its coordinates stay
+    // exact, and the regular levels beside each vertex height
     // (`datasets::cross_check`).
     let some = &levels[..levels.len().min(12)];
     if let Err(e) = check_mirror(&mesh, some)
         .and_then(|()| check_x_mirror(&mesh, some))
         .and_then(|()| check_relabelled(&slicer, some))
+        .and_then(|()| check_translated(&slicer, some).map(|_| ()))
         .and_then(|()| check_all_neighbours(&slicer, some))
     {
         panic!("{e}\n{mesh:?}");

@@ -27,6 +27,15 @@
 //!   back everything is the same: S_O, L- and L+ loop for loop (saddles
 //!   included), regions, ridges, extrema and saddles. A tie broken by
 //!   element ids would show here.
+//! - a far translation ([`check_translated`]): the mesh moved by `2^k` in
+//!   x and z and by `-2^k` in y, with `k` as large as keeps every
+//!   coordinate exact (far beyond the part when its coordinates' bits
+//!   span under 51, less when they span more). Nothing but the heights
+//!   changes: every loop loop for loop with the same exact area (a
+//!   polygon's area does not depend on where it lies), the same regions,
+//!   ridges, extrema and saddles. The float filters see coordinates with
+//!   no room to spare and must fall back to exact arithmetic whenever
+//!   they cannot decide.
 //!
 //! Loops are compared by mesh element ids (vertices and edges, an edge by
 //! its two vertex ids), never by coordinates. Shared by `tests/limits.rs`
@@ -528,6 +537,92 @@ pub fn check_relabelled(slicer: &Slicer<'_>, levels: &[Rat]) -> Result<(), Strin
     Ok(())
 }
 
+/// The exponent of the lowest set bit among the nonzero coordinates of
+/// `mesh` (`x = m 2^e` exactly), if any is nonzero.
+fn lowest_bit(mesh: &Mesh) -> Option<i32> {
+    use num_traits::Float;
+    mesh.positions
+        .iter()
+        .flatten()
+        .filter(|x| **x != 0.0)
+        .map(|x| {
+            let (m, e, _) = x.integer_decode();
+            i32::from(e) + m.trailing_zeros() as i32
+        })
+        .min()
+}
+
+/// `a + b` when it is exactly a double.
+fn exact_sum(a: f64, b: f64) -> Option<f64> {
+    // Knuth's two-sum: `s + err == a + b` exactly.
+    let s = a + b;
+    let bb = s - a;
+    let err = (a - (s - bb)) + (b - bb);
+    (err == 0.0 && s.is_finite()).then_some(s)
+}
+
+/// The largest power of two `t` (below `2^1023`) that moves `mesh` by
+/// `(t, -t, t)` with every coordinate still exact, with the moved mesh:
+/// `2^(lo + 51)` when every coordinate's bits span under 51 (`lo` the
+/// lowest set bit's exponent), smaller when they span more (a coordinate
+/// `3.6e-16` beside `40` allows `2^-24`), `None` when not even
+/// `2^lo` keeps them exact.
+pub fn far_offset(mesh: &Mesh) -> Option<(f64, Mesh)> {
+    let lo = lowest_bit(mesh).unwrap_or(0);
+    (lo..=(lo + 51).min(1022)).rev().find_map(|k| {
+        let t = 2f64.powi(k);
+        Some((t, translated(mesh, t)?))
+    })
+}
+
+/// `mesh` moved by `(t, -t, t)`, if every coordinate stays exact.
+pub fn translated(mesh: &Mesh, t: f64) -> Option<Mesh> {
+    let mut m = mesh.clone();
+    for p in &mut m.positions {
+        *p = [
+            exact_sum(p[0], t)?,
+            exact_sum(p[1], -t)?,
+            exact_sum(p[2], t)?,
+        ];
+    }
+    Some(m)
+}
+
+/// The far-translation check at each of `levels`: the mesh as the slicer
+/// holds it, moved by [`far_offset`], sliced at `c + t`: S_O, L- and L+ loop for loop (elements in order, roles, parents,
+/// collapse, exact areas) and the same regions (faces, facing, exact area,
+/// boundaries), ridges, extrema and saddles. `Ok(None)` when no offset
+/// keeps the coordinates exact; else `Ok(Some(t))`.
+pub fn check_translated(slicer: &Slicer<'_>, levels: &[Rat]) -> Result<Option<f64>, String> {
+    let Some((t, m)) = far_offset(slicer.mesh()) else {
+        return Ok(None);
+    };
+    let b = Slicer::new(&m).map_err(|e| format!("the mesh moved by {t:e}: {e}"))?;
+    let (ta, tb) = (slicer.topology(), b.topology());
+    let shift = crate::exact::rational::rat_from_f64(t);
+    for c in levels {
+        let p = slicer.slice_at(c).map_err(|e| format!("at {c}: {e}"))?;
+        let q = b
+            .slice_at(&(c + &shift))
+            .map_err(|e| format!("the mesh moved by {t:e}, at {c} + {t:e}: {e}"))?;
+        let families = [
+            ("S_O (moved)", &p.contours, &q.contours),
+            ("L- (moved)", &p.below, &q.below),
+            ("L+ (moved)", &p.above, &q.above),
+        ];
+        for (what, x, y) in families {
+            same_family(what, c, &limit_shape(ta, x), &limit_shape(tb, y))?;
+        }
+        same_rest(
+            c,
+            rest(ta, &p, Mirror::None),
+            rest(tb, &q, Mirror::None),
+            "the moved mesh",
+        )?;
+    }
+    Ok(Some(t))
+}
+
 /// L+ at `c` (L- when `below`) against the contours at `c + k d` for
 /// k = 1, 2, 3, which must all be regular and lie before the next vertex
 /// height in that direction (`d < 0` below): same edges in the same
@@ -630,6 +725,33 @@ mod tests {
             if n >= 3 {
                 let reversed: Vec<u32> = (0..n as u32).rev().collect();
                 assert!(p != sorted && p != reversed, "n = {n}: {p:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn far_offsets_keep_every_coordinate_exact() {
+        use crate::exact::rational::rat_from_f64;
+        assert_eq!(exact_sum(1.0, 2f64.powi(-60)), None);
+        assert_eq!(exact_sum(1.0, 2f64.powi(-52)), Some(1.0 + f64::EPSILON));
+        assert_eq!(exact_sum(f64::MAX, f64::MAX), None);
+        let cube = crate::datasets::by_name("unit_cube").unwrap().build();
+        // Small integers: 2^51 above the lowest bit (2^0).
+        assert_eq!(far_offset(&cube).map(|(t, _)| t), Some(2f64.powi(51)));
+        // An f32 part centred at the origin: 40 beside 3.6e-16 (in
+        // [2^-52, 2^-51), 24 bits: its lowest is 2^-75) leaves room for
+        // 2^-24 (52 bits from 2^-75 up).
+        let mut noisy = cube.clone();
+        noisy.positions[0][0] = f64::from(3.6e-16f32);
+        noisy.positions[1][1] = 40.0;
+        let (t, moved) = far_offset(&noisy).unwrap();
+        assert_eq!(t, 2f64.powi(-24));
+        for (p, q) in noisy.positions.iter().zip(&moved.positions) {
+            for (i, sign) in [1.0, -1.0, 1.0].into_iter().enumerate() {
+                assert_eq!(
+                    rat_from_f64(q[i]),
+                    rat_from_f64(p[i]) + rat_from_f64(sign * t)
+                );
             }
         }
     }
