@@ -238,7 +238,8 @@ fn rest(topo: &Topology, ls: &LevelSet, mirror: Mirror) -> Rest {
                 })
                 .collect();
             boundary.sort();
-            let faces: Vec<u32> = r.faces.iter().map(|f| f.0).collect();
+            let mut faces: Vec<u32> = r.faces.iter().map(|f| f.0).collect();
+            faces.sort_unstable();
             (facing(r.facing), faces, r.area.clone(), boundary)
         })
         .collect();
@@ -463,7 +464,8 @@ fn renamed_family(family: Vec<LoopFacts>, old: &[u32]) -> Vec<LoopFacts> {
 }
 
 /// A [`Rest`] with vertex ids renamed by `old_vertex` and face ids by
-/// `old_face`, every list sorted again (a region's faces too).
+/// `old_face`, every list sorted again (a region's faces too), as
+/// [`rest`] sorts them.
 fn renamed_rest(r: Rest, old_vertex: &[u32], old_face: &[u32]) -> Rest {
     let (regions, ridges, extrema, saddles) = r;
     let mut regions: Vec<_> = regions
@@ -501,37 +503,58 @@ fn renamed_rest(r: Rest, old_vertex: &[u32], old_face: &[u32]) -> Rest {
     (regions, ridges, extrema, saddles)
 }
 
+/// One level set `p` against another's `q` that must be equal to it, with
+/// `q`'s vertex and face ids mapped back by `old` (new id to old) when
+/// given: S_O, L- and L+ loop for loop (elements in order, roles,
+/// parents, collapse, exact areas), and the same regions (faces, facing,
+/// exact area, boundaries), ridges, extrema and saddles. `other` names
+/// `q`'s mesh.
+fn same_level_set(
+    c: &Rat,
+    (ta, p): (&Topology, &LevelSet),
+    (tb, q): (&Topology, &LevelSet),
+    other: &str,
+    old: Option<(&[u32], &[u32])>,
+) -> Result<(), String> {
+    let families = [
+        ("S_O", &p.contours, &q.contours),
+        ("L-", &p.below, &q.below),
+        ("L+", &p.above, &q.above),
+    ];
+    for (what, x, y) in families {
+        let mut theirs = limit_shape(tb, y);
+        if let Some((old_vertex, _)) = old {
+            theirs = renamed_family(theirs, old_vertex);
+        }
+        let what = format!("{what} (against {other})");
+        same_family(&what, c, &limit_shape(ta, x), &theirs)?;
+    }
+    let mut theirs = rest(tb, q, Mirror::None);
+    if let Some((old_vertex, old_face)) = old {
+        theirs = renamed_rest(theirs, old_vertex, old_face);
+    }
+    same_rest(c, rest(ta, p, Mirror::None), theirs, other)
+}
+
 /// The relabelling check at each of `levels`: the mesh as the slicer
 /// holds it (degenerate faces already flipped away, so the renumbered
 /// mesh needs no flip, whose order could depend on ids) against
-/// [`relabelled`], its ids mapped back: S_O, L- and L+ loop for loop
-/// (elements in order, roles, parents, collapse, exact areas), and the
-/// same regions (faces, facing, area, boundaries), ridges, extrema and
-/// saddles.
+/// [`relabelled`], its ids mapped back: equal level sets (S_O, L- and L+
+/// loop for loop, regions, ridges, extrema, saddles).
 pub fn check_relabelled(slicer: &Slicer<'_>, levels: &[Rat]) -> Result<(), String> {
     let (m, old_vertex, old_face) = relabelled(slicer.mesh());
     let b = Slicer::new(&m).map_err(|e| format!("the relabelled mesh: {e}"))?;
-    let (ta, tb) = (slicer.topology(), b.topology());
-    let identity: Vec<u32> = (0..slicer.mesh().faces.len().max(old_vertex.len()) as u32).collect();
     for c in levels {
         let p = slicer.slice_at(c).map_err(|e| format!("at {c}: {e}"))?;
         let q = b
             .slice_at(c)
             .map_err(|e| format!("the relabelled mesh at {c}: {e}"))?;
-        let families = [
-            ("S_O (relabelled)", &p.contours, &q.contours),
-            ("L- (relabelled)", &p.below, &q.below),
-            ("L+ (relabelled)", &p.above, &q.above),
-        ];
-        for (what, x, y) in families {
-            let theirs = renamed_family(limit_shape(tb, y), &old_vertex);
-            same_family(what, c, &limit_shape(ta, x), &theirs)?;
-        }
-        same_rest(
+        same_level_set(
             c,
-            renamed_rest(rest(ta, &p, Mirror::None), &identity, &identity),
-            renamed_rest(rest(tb, &q, Mirror::None), &old_vertex, &old_face),
+            (slicer.topology(), &p),
+            (b.topology(), &q),
             "the relabelled mesh",
+            Some((&old_vertex, &old_face)),
         )?;
     }
     Ok(())
@@ -589,35 +612,27 @@ pub fn translated(mesh: &Mesh, t: f64) -> Option<Mesh> {
 }
 
 /// The far-translation check at each of `levels`: the mesh as the slicer
-/// holds it, moved by [`far_offset`], sliced at `c + t`: S_O, L- and L+ loop for loop (elements in order, roles, parents,
-/// collapse, exact areas) and the same regions (faces, facing, exact area,
-/// boundaries), ridges, extrema and saddles. `Ok(None)` when no offset
+/// holds it, moved by [`far_offset`] and sliced at `c + t`, must give
+/// equal level sets (S_O, L- and L+ loop for loop with the same exact
+/// areas, regions, ridges, extrema, saddles). `Ok(None)` when no offset
 /// keeps the coordinates exact; else `Ok(Some(t))`.
 pub fn check_translated(slicer: &Slicer<'_>, levels: &[Rat]) -> Result<Option<f64>, String> {
     let Some((t, m)) = far_offset(slicer.mesh()) else {
         return Ok(None);
     };
     let b = Slicer::new(&m).map_err(|e| format!("the mesh moved by {t:e}: {e}"))?;
-    let (ta, tb) = (slicer.topology(), b.topology());
     let shift = crate::exact::rational::rat_from_f64(t);
     for c in levels {
         let p = slicer.slice_at(c).map_err(|e| format!("at {c}: {e}"))?;
         let q = b
             .slice_at(&(c + &shift))
             .map_err(|e| format!("the mesh moved by {t:e}, at {c} + {t:e}: {e}"))?;
-        let families = [
-            ("S_O (moved)", &p.contours, &q.contours),
-            ("L- (moved)", &p.below, &q.below),
-            ("L+ (moved)", &p.above, &q.above),
-        ];
-        for (what, x, y) in families {
-            same_family(what, c, &limit_shape(ta, x), &limit_shape(tb, y))?;
-        }
-        same_rest(
+        same_level_set(
             c,
-            rest(ta, &p, Mirror::None),
-            rest(tb, &q, Mirror::None),
+            (slicer.topology(), &p),
+            (b.topology(), &q),
             "the moved mesh",
+            None,
         )?;
     }
     Ok(Some(t))
