@@ -11,12 +11,13 @@
 //! to `Q` when given, collapsed faces dropped with `--drop-collapsed`,
 //! degenerate faces flipped away), at `N` (default 20) of its vertex
 //! heights and the midpoints between them, evenly picked: the z- and
-//! x-mirrors, the relabelling, the far translation and the neighbouring regular levels of
-//! [`wmslice::datasets::cross_check`] (L+ and L- of the mirror swapped,
-//! loop for loop; the same loops with the vertices and faces renumbered,
-//! and with the mesh moved by `2^k`; each limit equal in structure and
-//! exact area to the regular contours beside it). One line per file;
-//! exits with 1 when a check fails or an accepted mesh fails to slice.
+//! x-mirrors, the relabelling, the far translation and the neighbouring
+//! regular levels of [`wmslice::datasets::cross_check`] (L+ and L- of the
+//! mirror swapped, loop for loop; the same loops with the vertices and
+//! faces renumbered, and with the mesh moved by `2^k`; each limit equal
+//! in structure and exact area to the regular contours beside it). One
+//! line per file; exits with 1 when a check fails or an accepted mesh
+//! fails to slice.
 
 #[path = "support/heldout.rs"]
 mod heldout;

@@ -256,7 +256,7 @@ fn a_ridge_ring_with_material_on_both_sides_is_not_collapsed() {
 /// and the far translation
 /// ([`wmslice::datasets::cross_check::check_translated`], always made:
 /// these meshes' coordinates are small integers).
-fn check_mirror(mesh: &Mesh) -> Result<(), TestCaseError> {
+fn check_transformed(mesh: &Mesh) -> Result<(), TestCaseError> {
     let levels = heights_and_midpoints(mesh);
     let slicer = Slicer::new(mesh).map_err(|e| TestCaseError::fail(e.to_string()))?;
     cross_check::check_mirror(mesh, &levels)
@@ -271,9 +271,9 @@ fn check_mirror(mesh: &Mesh) -> Result<(), TestCaseError> {
 }
 
 #[test]
-fn mirror_of_every_dataset_swaps_the_limits() {
+fn every_dataset_agrees_with_its_mirrors_renumbering_and_move() {
     for d in datasets::all() {
-        check_mirror(&d.build()).unwrap_or_else(|e| panic!("{}: {e}", d.name));
+        check_transformed(&d.build()).unwrap_or_else(|e| panic!("{}: {e}", d.name));
     }
 }
 
@@ -295,8 +295,8 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
 
     #[test]
-    fn mirror_of_random_slabs_swaps_the_limits(s in common::slab()) {
-        check_mirror(&s.mesh())?;
+    fn random_slabs_agree_with_their_mirrors_renumbering_and_move(s in common::slab()) {
+        check_transformed(&s.mesh())?;
     }
 
     #[test]

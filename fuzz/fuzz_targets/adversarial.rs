@@ -15,8 +15,8 @@
 //! at every vertex height, `critical::brute_force`), and the slicer must
 //! agree with its z- and x-mirrors, with itself renumbered and moved, and
 //! with the regular levels beside each vertex height
-//! (`datasets::cross_check`). An internal error on an
-//! accepted mesh is the failure this target exists to find.
+//! (`datasets::cross_check`). An internal error on an accepted mesh is
+//! the failure this target exists to find.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
