@@ -11,20 +11,22 @@
 //! to `Q` when given, collapsed faces dropped with `--drop-collapsed`,
 //! degenerate faces flipped away), at `N` (default 20) of its vertex
 //! heights and the midpoints between them, evenly picked: the z- and
-//! x-mirrors, the relabelling, the far translation and the neighbouring
-//! regular levels of [`wmslice::datasets::cross_check`] (L+ and L- of the
-//! mirror swapped, loop for loop; the same loops with the vertices and
-//! faces renumbered, and with the mesh moved by `2^k`; each limit equal
-//! in structure and exact area to the regular contours beside it). One
-//! line per file; exits with 1 when a check fails or an accepted mesh
-//! fails to slice.
+//! x-mirrors, the relabelling, the far translation, the scales to both
+//! ends of the double range and the neighbouring regular levels of
+//! [`wmslice::datasets::cross_check`] (L+ and L- of the mirror swapped,
+//! loop for loop; the same loops with the vertices and faces renumbered,
+//! with the mesh moved by `2^k`, and with it scaled by `2^k` (areas by
+//! `4^k`); each limit equal in structure and exact area to the regular
+//! contours beside it). One line per file; exits with 1 when a check
+//! fails or an accepted mesh fails to slice.
 
 #[path = "support/heldout.rs"]
 mod heldout;
 
 use std::time::Instant;
 use wmslice::datasets::cross_check::{
-    check_all_neighbours, check_mirror, check_relabelled, check_translated, check_x_mirror,
+    check_all_neighbours, check_mirror, check_relabelled, check_scaled, check_translated,
+    check_x_mirror,
 };
 use wmslice::datasets::slab::heights_and_midpoints;
 
@@ -47,17 +49,26 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             })
             .and_then(|()| check_translated(&slicer, &picked).map_err(|e| format!("moved: {e}")))
             .and_then(|moved| {
+                let scales = check_scaled(&slicer, &picked).map_err(|e| format!("scaled: {e}"))?;
+                Ok((moved, scales))
+            })
+            .and_then(|done| {
                 check_all_neighbours(&slicer, &picked)
-                    .map(|()| moved)
+                    .map(|()| done)
                     .map_err(|e| format!("neighbours: {e}"))
             });
         match result {
-            Ok(moved) => println!(
-                "agree     {name}: {n} levels, mirrors, relabelling, {} and neighbours ({:.2} s)",
+            Ok((moved, scales)) => println!(
+                "agree     {name}: {n} levels, mirrors, relabelling, {}, scaled by {} and neighbours ({:.2} s)",
                 match moved {
                     Some(t) => format!("moved by {t:e}"),
                     None => "no exact move".into(),
                 },
+                scales
+                    .iter()
+                    .map(|k| format!("2^{k}"))
+                    .collect::<Vec<_>>()
+                    .join(", "),
                 t.elapsed().as_secs_f64()
             ),
             Err(e) => {

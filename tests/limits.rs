@@ -253,9 +253,11 @@ fn a_ridge_ring_with_material_on_both_sides_is_not_collapsed() {
 /// ([`wmslice::datasets::cross_check::check_mirror`]), the x-mirror
 /// ([`wmslice::datasets::cross_check::check_x_mirror`]), the
 /// relabelling ([`wmslice::datasets::cross_check::check_relabelled`])
-/// and the far translation
-/// ([`wmslice::datasets::cross_check::check_translated`], always made:
-/// these meshes' coordinates are small integers).
+/// the far translation
+/// ([`wmslice::datasets::cross_check::check_translated`]) and the scales
+/// to both ends of the double range
+/// ([`wmslice::datasets::cross_check::check_scaled`]), all always made:
+/// these meshes' coordinates are small integers.
 fn check_transformed(mesh: &Mesh) -> Result<(), TestCaseError> {
     let levels = heights_and_midpoints(mesh);
     let slicer = Slicer::new(mesh).map_err(|e| TestCaseError::fail(e.to_string()))?;
@@ -263,10 +265,11 @@ fn check_transformed(mesh: &Mesh) -> Result<(), TestCaseError> {
         .and_then(|()| cross_check::check_x_mirror(mesh, &levels))
         .and_then(|()| cross_check::check_relabelled(&slicer, &levels))
         .and_then(|()| cross_check::check_translated(&slicer, &levels))
+        .and_then(|t| Ok((t, cross_check::check_scaled(&slicer, &levels)?)))
         .map_err(TestCaseError::fail)
-        .and_then(|t| match t {
-            Some(_) => Ok(()),
-            None => Err(TestCaseError::fail("no far translation was made")),
+        .and_then(|(t, scales)| match (t, scales.len()) {
+            (Some(_), 2) => Ok(()),
+            _ => Err(TestCaseError::fail("no far translation or scale was made")),
         })
 }
 

@@ -13,8 +13,8 @@
 //! (`check_level_invariants`), and its critical values
 //! (`critical::analyze`) must equal the slow path's (the full level set
 //! at every vertex height, `critical::brute_force`), and the slicer must
-//! agree with its z- and x-mirrors, with itself renumbered and moved, and
-//! with the regular levels beside each vertex height
+//! agree with its z- and x-mirrors, with itself renumbered, moved and
+//! scaled, and with the regular levels beside each vertex height
 //! (`datasets::cross_check`). An internal error on an accepted mesh is
 //! the failure this target exists to find.
 #![no_main]
@@ -22,7 +22,8 @@
 use libfuzzer_sys::fuzz_target;
 use wmslice::critical::{analyze, brute_force};
 use wmslice::datasets::cross_check::{
-    check_all_neighbours, check_mirror, check_relabelled, check_translated, check_x_mirror,
+    check_all_neighbours, check_mirror, check_relabelled, check_scaled, check_translated,
+    check_x_mirror,
 };
 use wmslice::datasets::slab::{heights_and_midpoints, Slab};
 use wmslice::exact::predicates::is_degenerate_triangle;
@@ -161,13 +162,15 @@ fuzz_target!(|data: &[u8]| {
     }
     // The slicer against itself: its z- and x-mirrors, a renumbering of its
     // vertices and faces, the mesh moved as far as its coordinates stay
-    // exact, and the regular levels beside each vertex height
+    // exact and scaled to both ends of the double range, and the regular
+    // levels beside each vertex height
     // (`datasets::cross_check`).
     let some = &levels[..levels.len().min(12)];
     if let Err(e) = check_mirror(&mesh, some)
         .and_then(|()| check_x_mirror(&mesh, some))
         .and_then(|()| check_relabelled(&slicer, some))
         .and_then(|()| check_translated(&slicer, some).map(|_| ()))
+        .and_then(|()| check_scaled(&slicer, some).map(|_| ()))
         .and_then(|()| check_all_neighbours(&slicer, some))
     {
         panic!("{e}\n{mesh:?}");

@@ -36,6 +36,11 @@
 //!   ridges, extrema and saddles. The float filters see coordinates with
 //!   no room to spare and must fall back to exact arithmetic whenever
 //!   they cannot decide.
+//! - scales to the ends of the double range ([`check_scaled`]): the mesh
+//!   scaled by `2^k` so that its lowest bit becomes the least subnormal,
+//!   and again so that its highest becomes `2^1023`; sliced at `c 2^k`,
+//!   the same loops, regions, ridges, extrema and saddles, every exact
+//!   area `4^k` times the original's.
 //!
 //! Loops are compared by mesh element ids (vertices and edges, an edge by
 //! its two vertex ids), never by coordinates. Shared by `tests/limits.rs`
@@ -503,18 +508,58 @@ fn renamed_rest(r: Rest, old_vertex: &[u32], old_face: &[u32]) -> Rest {
     (regions, ridges, extrema, saddles)
 }
 
-/// One level set `p` against another's `q` that must be equal to it, with
-/// `q`'s vertex and face ids mapped back by `old` (new id to old) when
-/// given: S_O, L- and L+ loop for loop (elements in order, roles,
-/// parents, collapse, exact areas), and the same regions (faces, facing,
-/// exact area, boundaries), ridges, extrema and saddles. `other` names
-/// `q`'s mesh.
+/// How the other mesh's level set is brought back to the original's.
+#[derive(Clone, Copy)]
+enum Back<'a> {
+    /// As it is (the mesh moved: same ids, same areas).
+    AsIs,
+    /// Vertex and face ids mapped back (new id to old).
+    Renamed { vertex: &'a [u32], face: &'a [u32] },
+    /// Every area divided by this factor (the mesh scaled).
+    Shrunk(&'a Rat),
+}
+
+impl Back<'_> {
+    fn family(self, family: Vec<LoopFacts>) -> Vec<LoopFacts> {
+        match self {
+            Back::AsIs => family,
+            Back::Renamed { vertex, .. } => renamed_family(family, vertex),
+            Back::Shrunk(f) => family
+                .into_iter()
+                .map(|(seq, role, parent, collapsed, area)| {
+                    (seq, role, parent, collapsed, area / f)
+                })
+                .collect(),
+        }
+    }
+
+    fn rest(self, r: Rest) -> Rest {
+        match self {
+            Back::AsIs => r,
+            Back::Renamed { vertex, face } => renamed_rest(r, vertex, face),
+            Back::Shrunk(f) => {
+                let (regions, ridges, extrema, saddles) = r;
+                let regions = regions
+                    .into_iter()
+                    .map(|(facing, faces, area, boundary)| (facing, faces, area / f, boundary))
+                    .collect();
+                (regions, ridges, extrema, saddles)
+            }
+        }
+    }
+}
+
+/// One level set `p` against another's `q` that must be equal to it once
+/// brought `back`: S_O, L- and L+ loop for loop (elements in order,
+/// roles, parents, collapse, exact areas), and the same regions (faces,
+/// facing, exact area, boundaries), ridges, extrema and saddles. `other`
+/// names `q`'s mesh.
 fn same_level_set(
     c: &Rat,
     (ta, p): (&Topology, &LevelSet),
     (tb, q): (&Topology, &LevelSet),
     other: &str,
-    old: Option<(&[u32], &[u32])>,
+    back: Back<'_>,
 ) -> Result<(), String> {
     let families = [
         ("S_O", &p.contours, &q.contours),
@@ -522,17 +567,11 @@ fn same_level_set(
         ("L+", &p.above, &q.above),
     ];
     for (what, x, y) in families {
-        let mut theirs = limit_shape(tb, y);
-        if let Some((old_vertex, _)) = old {
-            theirs = renamed_family(theirs, old_vertex);
-        }
+        let theirs = back.family(limit_shape(tb, y));
         let what = format!("{what} (against {other})");
         same_family(&what, c, &limit_shape(ta, x), &theirs)?;
     }
-    let mut theirs = rest(tb, q, Mirror::None);
-    if let Some((old_vertex, old_face)) = old {
-        theirs = renamed_rest(theirs, old_vertex, old_face);
-    }
+    let theirs = back.rest(rest(tb, q, Mirror::None));
     same_rest(c, rest(ta, p, Mirror::None), theirs, other)
 }
 
@@ -554,15 +593,18 @@ pub fn check_relabelled(slicer: &Slicer<'_>, levels: &[Rat]) -> Result<(), Strin
             (slicer.topology(), &p),
             (b.topology(), &q),
             "the relabelled mesh",
-            Some((&old_vertex, &old_face)),
+            Back::Renamed {
+                vertex: &old_vertex,
+                face: &old_face,
+            },
         )?;
     }
     Ok(())
 }
 
-/// The exponent of the lowest set bit among the nonzero coordinates of
-/// `mesh` (`x = m 2^e` exactly), if any is nonzero.
-fn lowest_bit(mesh: &Mesh) -> Option<i32> {
+/// The exponents of the lowest and the highest set bit among the nonzero
+/// coordinates of `mesh` (`x = m 2^e` exactly), if any is nonzero.
+fn bit_range(mesh: &Mesh) -> Option<(i32, i32)> {
     use num_traits::Float;
     mesh.positions
         .iter()
@@ -570,9 +612,13 @@ fn lowest_bit(mesh: &Mesh) -> Option<i32> {
         .filter(|x| **x != 0.0)
         .map(|x| {
             let (m, e, _) = x.integer_decode();
-            i32::from(e) + m.trailing_zeros() as i32
+            let e = i32::from(e);
+            (
+                e + m.trailing_zeros() as i32,
+                e + 63 - m.leading_zeros() as i32,
+            )
         })
-        .min()
+        .reduce(|(lo, hi), (l, h)| (lo.min(l), hi.max(h)))
 }
 
 /// `a + b` when it is exactly a double.
@@ -591,7 +637,7 @@ fn exact_sum(a: f64, b: f64) -> Option<f64> {
 /// `3.6e-16` beside `40` allows `2^-24`), `None` when not even
 /// `2^lo` keeps them exact.
 pub fn far_offset(mesh: &Mesh) -> Option<(f64, Mesh)> {
-    let lo = lowest_bit(mesh).unwrap_or(0);
+    let (lo, _) = bit_range(mesh).unwrap_or((0, 0));
     (lo..=(lo + 51).min(1022)).rev().find_map(|k| {
         let t = 2f64.powi(k);
         Some((t, translated(mesh, t)?))
@@ -632,10 +678,82 @@ pub fn check_translated(slicer: &Slicer<'_>, levels: &[Rat]) -> Result<Option<f6
             (slicer.topology(), &p),
             (b.topology(), &q),
             "the moved mesh",
-            None,
+            Back::AsIs,
         )?;
     }
     Ok(Some(t))
+}
+
+/// `x 2^k` exactly, computed in steps of at most `2^±1000`, if it is a
+/// double (no bit lost below the subnormals, no overflow).
+fn times_power_of_two(x: f64, k: i32) -> Option<f64> {
+    let step = |x: f64, k: i32| {
+        let mut y = x;
+        let mut left = k;
+        while left != 0 {
+            let s = left.clamp(-1000, 1000);
+            y *= 2f64.powi(s);
+            left -= s;
+        }
+        y
+    };
+    let y = step(x, k);
+    (y.is_finite() && step(y, -k) == x).then_some(y)
+}
+
+/// `mesh` scaled by `2^k`, if every coordinate stays exact.
+pub fn scaled(mesh: &Mesh, k: i32) -> Option<Mesh> {
+    let mut m = mesh.clone();
+    for p in &mut m.positions {
+        *p = [
+            times_power_of_two(p[0], k)?,
+            times_power_of_two(p[1], k)?,
+            times_power_of_two(p[2], k)?,
+        ];
+    }
+    Some(m)
+}
+
+/// The two scales [`check_scaled`] tries: the lowest set bit of any
+/// coordinate taken down to `2^-1074` (the least subnormal), and the
+/// highest up to `2^1023`, when the mesh has a nonzero coordinate.
+pub fn extreme_scales(mesh: &Mesh) -> Vec<i32> {
+    bit_range(mesh).map_or(Vec::new(), |(lo, hi)| vec![-1074 - lo, 1023 - hi])
+}
+
+/// The scale check at each of `levels`: the mesh as the slicer holds it,
+/// scaled by `2^k` for each of [`extreme_scales`] (coordinates at the
+/// ends of the double range, subnormals included) and sliced at `c 2^k`,
+/// must give the same loops, regions, ridges, extrema and saddles, with
+/// every exact area `4^k` times the original's. A scaled mesh that is
+/// refused is an `Err` too: the surface is the same. Returns the scales
+/// checked.
+pub fn check_scaled(slicer: &Slicer<'_>, levels: &[Rat]) -> Result<Vec<i32>, String> {
+    let mut done = Vec::new();
+    for k in extreme_scales(slicer.mesh()) {
+        let Some(m) = scaled(slicer.mesh(), k) else {
+            continue;
+        };
+        let b = Slicer::new(&m).map_err(|e| format!("the mesh scaled by 2^{k}: {e}"))?;
+        let one = num_bigint::BigInt::from(1);
+        let factor = Rat::new(&one << k.max(0), &one << (-k).max(0));
+        let area = &factor * &factor;
+        for c in levels {
+            let p = slicer.slice_at(c).map_err(|e| format!("at {c}: {e}"))?;
+            let q = b
+                .slice_at(&(c * &factor))
+                .map_err(|e| format!("the mesh scaled by 2^{k}, at {c} 2^{k}: {e}"))?;
+            same_level_set(
+                c,
+                (slicer.topology(), &p),
+                (b.topology(), &q),
+                &format!("the mesh scaled by 2^{k}"),
+                Back::Shrunk(&area),
+            )?;
+        }
+        done.push(k);
+    }
+    Ok(done)
 }
 
 /// L+ at `c` (L- when `below`) against the contours at `c + k d` for
@@ -769,6 +887,27 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn scales_to_the_ends_of_the_range_are_exact_or_refused() {
+        let tiny = f64::from_bits(1); // 2^-1074
+        assert_eq!(times_power_of_two(1.0, -1074), Some(tiny));
+        // 3 2^-1074 is a subnormal; 3 2^-1075 would need a bit below it.
+        assert_eq!(times_power_of_two(3.0, -1074), Some(3.0 * tiny));
+        assert_eq!(times_power_of_two(3.0, -1075), None);
+        assert_eq!(times_power_of_two(1.5, 1023), Some(1.5 * 2f64.powi(1023)));
+        assert_eq!(times_power_of_two(1.0, 1024), None);
+        assert_eq!(times_power_of_two(tiny, 2097), Some(2f64.powi(1023)));
+        let cube = crate::datasets::by_name("unit_cube").unwrap().build();
+        // Coordinates 0 and 1: the 1 goes to 2^-1074 and to 2^1023.
+        assert_eq!(extreme_scales(&cube), vec![-1074, 1023]);
+        let up = scaled(&cube, 1023).unwrap();
+        assert!(up
+            .positions
+            .iter()
+            .flatten()
+            .all(|&x| x == 0.0 || x == 2f64.powi(1023)));
     }
 
     #[test]
