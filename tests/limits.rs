@@ -252,7 +252,7 @@ fn a_ridge_ring_with_material_on_both_sides_is_not_collapsed() {
 /// The z-mirror at every vertex height and between them
 /// ([`wmslice::datasets::cross_check::check_mirror`]), the x-mirror
 /// ([`wmslice::datasets::cross_check::check_x_mirror`]), the
-/// relabelling ([`wmslice::datasets::cross_check::check_relabelled`])
+/// relabelling ([`wmslice::datasets::cross_check::check_relabelled`]),
 /// the far translation
 /// ([`wmslice::datasets::cross_check::check_translated`]) and the scales
 /// to both ends of the double range
