@@ -592,14 +592,23 @@ impl LoopPoint {
                 level: Arc::clone(level),
             }))
         };
-        if let Some(nearest) = approx.and_then(|c| certified_crossing(a, b, c)) {
+        // A lazy point's doubles tell its zero coordinates
+        // (`zero_coordinates`): a nearest double of zero must mean a zero
+        // value. Below half the least subnormal a nonzero value rounds to
+        // zero too; such a crossing (or an exact zero not known from its
+        // ends) goes to the big rationals, which keep the exact value.
+        let tells_zeros =
+            |n: &[f64; 2]| (0..2).all(|k| n[k] != 0.0 || (a[k] == 0.0 && b[k] == 0.0));
+        if let Some(nearest) = approx
+            .and_then(|c| certified_crossing(a, b, c))
+            .filter(tells_zeros)
+        {
             return (lazy(nearest), NumberPath::Certified);
         }
         // Undecided (a crossing exactly halfway between two doubles, or
         // out of the certified range): the exact value decides the
-        // rounding, in 256-bit integers when it fits them (zero only when
-        // the value is: the doubles tell the zero coordinates).
-        if let Some(nearest) = super::wide::nearest_crossing(a, b, level) {
+        // rounding, in 256-bit integers when it fits them.
+        if let Some(nearest) = super::wide::nearest_crossing(a, b, level).filter(tells_zeros) {
             return (lazy(nearest), NumberPath::Wide);
         }
         // Else in big rationals. The exact value is kept only when its
@@ -676,7 +685,8 @@ impl LoopPoint {
     pub fn zero_coordinates(&self) -> [bool; 2] {
         match &self.0 {
             Repr::Scaled(h) => [h.x == 0, h.y == 0],
-            // The certified doubles are zero only when both ends' values are.
+            // A lazy point's doubles are zero only when its value is
+            // (`on_edge_with` keeps no other lazily).
             Repr::Lazy(l) => l.nearest.map(|v| v == 0.0),
             Repr::Rational(p) => [p.x.is_zero(), p.y.is_zero()],
         }
