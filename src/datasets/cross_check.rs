@@ -48,7 +48,9 @@
 //! you did not make).
 
 use crate::classify::{ExtremumKind, Facing, RidgeKind};
-use crate::exact::rational::Rat;
+use crate::exact::crossing::two_sum;
+use crate::exact::rational::{rat_times_pow2, Rat};
+use crate::exact::scale::{spread, times_pow2};
 use crate::levelset::{total_area, LevelSet, Loop, Slicer};
 use crate::mesh::topology::Topology;
 use crate::mesh::Mesh;
@@ -602,31 +604,27 @@ pub fn check_relabelled(slicer: &Slicer<'_>, levels: &[Rat]) -> Result<(), Strin
     Ok(())
 }
 
-/// The exponents of the lowest and the highest set bit among the nonzero
-/// coordinates of `mesh` (`x = m 2^e` exactly), if any is nonzero.
+/// `(L, H)` of the mesh's nonzero coordinates ([`spread`]): `L` the
+/// least exponent of a set bit, every magnitude below `2^H`.
 fn bit_range(mesh: &Mesh) -> Option<(i32, i32)> {
-    use num_traits::Float;
-    mesh.positions
-        .iter()
-        .flatten()
-        .filter(|x| **x != 0.0)
-        .map(|x| {
-            let (m, e, _) = x.integer_decode();
-            let e = i32::from(e);
-            (
-                e + m.trailing_zeros() as i32,
-                e + 63 - m.leading_zeros() as i32,
-            )
-        })
-        .reduce(|(lo, hi), (l, h)| (lo.min(l), hi.max(h)))
+    spread(mesh.positions.as_flattened())
 }
 
-/// `a + b` when it is exactly a double.
+/// The mesh with every coordinate `v` on axis `k` replaced by `f(k, v)`, if
+/// each is a double.
+fn each_coordinate(mesh: &Mesh, f: impl Fn(usize, f64) -> Option<f64>) -> Option<Mesh> {
+    let mut m = mesh.clone();
+    for p in &mut m.positions {
+        for (k, v) in p.iter_mut().enumerate() {
+            *v = f(k, *v)?;
+        }
+    }
+    Some(m)
+}
+
+/// `a + b` when it is exactly a double (its [`two_sum`] error is zero).
 fn exact_sum(a: f64, b: f64) -> Option<f64> {
-    // Knuth's two-sum: `s + err == a + b` exactly.
-    let s = a + b;
-    let bb = s - a;
-    let err = (a - (s - bb)) + (b - bb);
+    let (s, err) = two_sum(a, b);
     (err == 0.0 && s.is_finite()).then_some(s)
 }
 
@@ -646,15 +644,7 @@ pub fn far_offset(mesh: &Mesh) -> Option<(f64, Mesh)> {
 
 /// `mesh` moved by `(t, -t, t)`, if every coordinate stays exact.
 pub fn translated(mesh: &Mesh, t: f64) -> Option<Mesh> {
-    let mut m = mesh.clone();
-    for p in &mut m.positions {
-        *p = [
-            exact_sum(p[0], t)?,
-            exact_sum(p[1], -t)?,
-            exact_sum(p[2], t)?,
-        ];
-    }
-    Some(m)
+    each_coordinate(mesh, |k, v| exact_sum(v, if k == 1 { -t } else { t }))
 }
 
 /// The far-translation check at each of `levels`: the mesh as the slicer
@@ -684,41 +674,23 @@ pub fn check_translated(slicer: &Slicer<'_>, levels: &[Rat]) -> Result<Option<f6
     Ok(Some(t))
 }
 
-/// `x 2^k` exactly, computed in steps of at most `2^±1000`, if it is a
-/// double (no bit lost below the subnormals, no overflow).
-fn times_power_of_two(x: f64, k: i32) -> Option<f64> {
-    let step = |x: f64, k: i32| {
-        let mut y = x;
-        let mut left = k;
-        while left != 0 {
-            let s = left.clamp(-1000, 1000);
-            y *= 2f64.powi(s);
-            left -= s;
-        }
-        y
-    };
-    let y = step(x, k);
-    (y.is_finite() && step(y, -k) == x).then_some(y)
+/// `v 2^k` when it is a double ([`times_pow2`] is exact then; it is one
+/// when it is finite and scales back to `v`, no bit lost below `2^-1074`).
+fn exact_times_pow2(v: f64, k: i32) -> Option<f64> {
+    let w = times_pow2(v, k);
+    (w.is_finite() && times_pow2(w, -k) == v).then_some(w)
 }
 
 /// `mesh` scaled by `2^k`, if every coordinate stays exact.
 pub fn scaled(mesh: &Mesh, k: i32) -> Option<Mesh> {
-    let mut m = mesh.clone();
-    for p in &mut m.positions {
-        *p = [
-            times_power_of_two(p[0], k)?,
-            times_power_of_two(p[1], k)?,
-            times_power_of_two(p[2], k)?,
-        ];
-    }
-    Some(m)
+    each_coordinate(mesh, |_, v| exact_times_pow2(v, k))
 }
 
 /// The two scales [`check_scaled`] tries: the lowest set bit of any
 /// coordinate taken down to `2^-1074` (the least subnormal), and the
 /// highest up to `2^1023`, when the mesh has a nonzero coordinate.
 pub fn extreme_scales(mesh: &Mesh) -> Vec<i32> {
-    bit_range(mesh).map_or(Vec::new(), |(lo, hi)| vec![-1074 - lo, 1023 - hi])
+    bit_range(mesh).map_or(Vec::new(), |(lo, hi)| vec![-1074 - lo, 1024 - hi])
 }
 
 /// The scale check at each of `levels`: the mesh as the slicer holds it,
@@ -729,31 +701,33 @@ pub fn extreme_scales(mesh: &Mesh) -> Vec<i32> {
 /// refused is an `Err` too: the surface is the same. Returns the scales
 /// checked.
 pub fn check_scaled(slicer: &Slicer<'_>, levels: &[Rat]) -> Result<Vec<i32>, String> {
-    let mut done = Vec::new();
-    for k in extreme_scales(slicer.mesh()) {
-        let Some(m) = scaled(slicer.mesh(), k) else {
-            continue;
-        };
-        let b = Slicer::new(&m).map_err(|e| format!("the mesh scaled by 2^{k}: {e}"))?;
-        let one = num_bigint::BigInt::from(1);
-        let factor = Rat::new(&one << k.max(0), &one << (-k).max(0));
-        let area = &factor * &factor;
-        for c in levels {
-            let p = slicer.slice_at(c).map_err(|e| format!("at {c}: {e}"))?;
+    let meshes: Vec<(i32, Mesh)> = extreme_scales(slicer.mesh())
+        .into_iter()
+        .filter_map(|k| Some((k, scaled(slicer.mesh(), k)?)))
+        .collect();
+    let scaled_slicers = meshes
+        .iter()
+        .map(|(k, m)| {
+            let b = Slicer::new(m).map_err(|e| format!("the mesh scaled by 2^{k}: {e}"))?;
+            Ok((*k, b, rat_times_pow2(&Rat::from_integer(1.into()), 2 * k)))
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    for c in levels {
+        let p = slicer.slice_at(c).map_err(|e| format!("at {c}: {e}"))?;
+        for (k, b, area) in &scaled_slicers {
             let q = b
-                .slice_at(&(c * &factor))
+                .slice_at(&rat_times_pow2(c, *k))
                 .map_err(|e| format!("the mesh scaled by 2^{k}, at {c} 2^{k}: {e}"))?;
             same_level_set(
                 c,
                 (slicer.topology(), &p),
                 (b.topology(), &q),
                 &format!("the mesh scaled by 2^{k}"),
-                Back::Shrunk(&area),
+                Back::Shrunk(area),
             )?;
         }
-        done.push(k);
     }
-    Ok(done)
+    Ok(scaled_slicers.iter().map(|(k, _, _)| *k).collect())
 }
 
 /// L+ at `c` (L- when `below`) against the contours at `c + k d` for
@@ -866,7 +840,9 @@ mod tests {
     fn far_offsets_keep_every_coordinate_exact() {
         use crate::exact::rational::rat_from_f64;
         assert_eq!(exact_sum(1.0, 2f64.powi(-60)), None);
-        assert_eq!(exact_sum(1.0, 2f64.powi(-52)), Some(1.0 + f64::EPSILON));
+        // 1 + 2^-52 is the double after 1: the sum is exact.
+        let after_one = f64::from_bits(1.0f64.to_bits() + 1);
+        assert_eq!(exact_sum(1.0, 2f64.powi(-52)), Some(after_one));
         assert_eq!(exact_sum(f64::MAX, f64::MAX), None);
         let cube = crate::datasets::by_name("unit_cube").unwrap().build();
         // Small integers: 2^51 above the lowest bit (2^0).
@@ -892,13 +868,13 @@ mod tests {
     #[test]
     fn scales_to_the_ends_of_the_range_are_exact_or_refused() {
         let tiny = f64::from_bits(1); // 2^-1074
-        assert_eq!(times_power_of_two(1.0, -1074), Some(tiny));
+        assert_eq!(exact_times_pow2(1.0, -1074), Some(tiny));
         // 3 2^-1074 is a subnormal; 3 2^-1075 would need a bit below it.
-        assert_eq!(times_power_of_two(3.0, -1074), Some(3.0 * tiny));
-        assert_eq!(times_power_of_two(3.0, -1075), None);
-        assert_eq!(times_power_of_two(1.5, 1023), Some(1.5 * 2f64.powi(1023)));
-        assert_eq!(times_power_of_two(1.0, 1024), None);
-        assert_eq!(times_power_of_two(tiny, 2097), Some(2f64.powi(1023)));
+        assert_eq!(exact_times_pow2(3.0, -1074), Some(3.0 * tiny));
+        assert_eq!(exact_times_pow2(3.0, -1075), None);
+        assert_eq!(exact_times_pow2(1.5, 1023), Some(1.5 * 2f64.powi(1023)));
+        assert_eq!(exact_times_pow2(1.0, 1024), None);
+        assert_eq!(exact_times_pow2(tiny, 2097), Some(2f64.powi(1023)));
         let cube = crate::datasets::by_name("unit_cube").unwrap().build();
         // Coordinates 0 and 1: the 1 goes to 2^-1074 and to 2^1023.
         assert_eq!(extreme_scales(&cube), vec![-1074, 1023]);

@@ -51,7 +51,7 @@ const ABS_BOUND: f64 = f64::from_bits((1023 - 1000) << 52);
 /// `a + b = s + e` exactly (Knuth's TwoSum; exact for all finite inputs
 /// whose sum does not overflow).
 #[inline(always)]
-fn two_sum(a: f64, b: f64) -> (f64, f64) {
+pub(crate) fn two_sum(a: f64, b: f64) -> (f64, f64) {
     let s = a + b;
     let bb = s - a;
     (s, (a - (s - bb)) + (b - bb))
