@@ -11,12 +11,12 @@
 //! to `Q` when given, collapsed faces dropped with `--drop-collapsed`,
 //! degenerate faces flipped away), at `N` (default 20) of its vertex
 //! heights and the midpoints between them, evenly picked: the z- and
-//! x-mirrors, the relabelling, the far translation, the scales to both
-//! ends of the double range and the neighbouring regular levels of
-//! [`wmslice::datasets::cross_check`] (L+ and L- of the mirror swapped,
-//! loop for loop; the same loops with the vertices and faces renumbered,
-//! with the mesh moved by `2^k`, and with it scaled by `2^k` (areas by
-//! `4^k`); each limit equal in structure and exact area to the regular
+//! x-mirrors, the relabelling, the quarter turn about z, the far
+//! translation, the scales to both ends of the double range and the
+//! neighbouring regular levels of [`wmslice::datasets::cross_check`] (L+
+//! and L- of the mirror swapped, loop for loop; the same loops with the
+//! vertices and faces renumbered, with the mesh turned, with it moved by
+//! `2^k`, and with it scaled by `2^k` (areas by `4^k`); each limit equal in structure and exact area to the regular
 //! contours beside it). One line per file; exits with 1 when a check
 //! fails or an accepted mesh fails to slice.
 
@@ -25,8 +25,8 @@ mod heldout;
 
 use std::time::Instant;
 use wmslice::datasets::cross_check::{
-    check_all_neighbours, check_mirror, check_relabelled, check_scaled, check_translated,
-    check_x_mirror,
+    check_all_neighbours, check_mirror, check_quarter_turned, check_relabelled, check_scaled,
+    check_translated, check_x_mirror,
 };
 use wmslice::datasets::slab::heights_and_midpoints;
 
@@ -47,6 +47,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .and_then(|()| {
                 check_relabelled(&slicer, &picked).map_err(|e| format!("relabelled: {e}"))
             })
+            .and_then(|()| {
+                check_quarter_turned(&slicer, &picked).map_err(|e| format!("turned: {e}"))
+            })
             .and_then(|()| check_translated(&slicer, &picked).map_err(|e| format!("moved: {e}")))
             .and_then(|moved| {
                 let scales = check_scaled(&slicer, &picked).map_err(|e| format!("scaled: {e}"))?;
@@ -59,7 +62,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             });
         match result {
             Ok((moved, scales)) => println!(
-                "agree     {name}: {n} levels, mirrors, relabelling, {}, scaled by {} and neighbours ({:.2} s)",
+                "agree     {name}: {n} levels, mirrors, relabelling, a quarter turn, {}, scaled by {} and neighbours ({:.2} s)",
                 match moved {
                     Some(t) => format!("moved by {t:e}"),
                     None => "no exact move".into(),

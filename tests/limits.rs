@@ -253,7 +253,9 @@ fn a_ridge_ring_with_material_on_both_sides_is_not_collapsed() {
 /// ([`wmslice::datasets::cross_check::check_mirror`]), the x-mirror
 /// ([`wmslice::datasets::cross_check::check_x_mirror`]), the
 /// relabelling ([`wmslice::datasets::cross_check::check_relabelled`]),
-/// the far translation
+/// the quarter turn
+/// ([`wmslice::datasets::cross_check::check_quarter_turned`]), the far
+/// translation
 /// ([`wmslice::datasets::cross_check::check_translated`]) and the scales
 /// to both ends of the double range
 /// ([`wmslice::datasets::cross_check::check_scaled`]), all always made:
@@ -264,6 +266,7 @@ fn check_transformed(mesh: &Mesh) -> Result<(), TestCaseError> {
     cross_check::check_mirror(mesh, &levels)
         .and_then(|()| cross_check::check_x_mirror(mesh, &levels))
         .and_then(|()| cross_check::check_relabelled(&slicer, &levels))
+        .and_then(|()| cross_check::check_quarter_turned(&slicer, &levels))
         .and_then(|()| cross_check::check_translated(&slicer, &levels))
         .and_then(|t| Ok((t, cross_check::check_scaled(&slicer, &levels)?)))
         .map_err(TestCaseError::fail)

@@ -22,8 +22,8 @@
 use libfuzzer_sys::fuzz_target;
 use wmslice::critical::{analyze, brute_force};
 use wmslice::datasets::cross_check::{
-    check_all_neighbours, check_mirror, check_relabelled, check_scaled, check_translated,
-    check_x_mirror,
+    check_all_neighbours, check_mirror, check_quarter_turned, check_relabelled, check_scaled,
+    check_translated, check_x_mirror,
 };
 use wmslice::datasets::slab::{heights_and_midpoints, Slab};
 use wmslice::exact::predicates::is_degenerate_triangle;
@@ -161,7 +161,7 @@ fuzz_target!(|data: &[u8]| {
         Err(e) => panic!("internal error on an accepted mesh (slow path): {e}\n{mesh:?}"),
     }
     // The slicer against itself: its z- and x-mirrors, a renumbering of its
-    // vertices and faces, the mesh moved as far as its coordinates stay
+    // vertices and faces, the mesh turned a quarter about z, moved as far as its coordinates stay
     // exact and scaled to both ends of the double range, and the regular
     // levels beside each vertex height
     // (`datasets::cross_check`).
@@ -169,6 +169,7 @@ fuzz_target!(|data: &[u8]| {
     if let Err(e) = check_mirror(&mesh, some)
         .and_then(|()| check_x_mirror(&mesh, some))
         .and_then(|()| check_relabelled(&slicer, some))
+        .and_then(|()| check_quarter_turned(&slicer, some))
         .and_then(|()| check_translated(&slicer, some).map(|_| ()))
         .and_then(|()| check_scaled(&slicer, some).map(|_| ()))
         .and_then(|()| check_all_neighbours(&slicer, some))

@@ -36,6 +36,10 @@
 //!   ridges, extrema and saddles. The float filters see coordinates with
 //!   no room to spare and must fall back to exact arithmetic whenever
 //!   they cannot decide.
+//! - a quarter turn about z ([`check_quarter_turned`]): `(x, y)` becomes
+//!   `(-y, x)`, exactly; every loop, area, region, ridge, extremum and
+//!   saddle the same. What looks along one axis (the nesting's rays and
+//!   sweep) meets the other axis's ties.
 //! - scales to the ends of the double range ([`check_scaled`]): the mesh
 //!   scaled by `2^k` so that its lowest bit becomes the least subnormal,
 //!   and again so that its highest becomes `2^1023`; sliced at `c 2^k`,
@@ -513,7 +517,7 @@ fn renamed_rest(r: Rest, old_vertex: &[u32], old_face: &[u32]) -> Rest {
 /// How the other mesh's level set is brought back to the original's.
 #[derive(Clone, Copy)]
 enum Back<'a> {
-    /// As it is (the mesh moved: same ids, same areas).
+    /// As it is (the mesh moved or turned: same ids, same areas).
     AsIs,
     /// Vertex and face ids mapped back (new id to old).
     Renamed { vertex: &'a [u32], face: &'a [u32] },
@@ -577,6 +581,27 @@ fn same_level_set(
     same_rest(c, rest(ta, p, Mirror::None), theirs, other)
 }
 
+/// The original's level set `p` at `c` against `other`'s at `at`, brought
+/// `back` ([`same_level_set`]); `name` names `other`'s mesh.
+fn same_as_other(
+    slicer: &Slicer<'_>,
+    (c, p): (&Rat, &LevelSet),
+    (name, other): (&str, &Slicer<'_>),
+    at: &Rat,
+    back: Back<'_>,
+) -> Result<(), String> {
+    let q = other
+        .slice_at(at)
+        .map_err(|e| format!("{name} at {at}: {e}"))?;
+    same_level_set(
+        c,
+        (slicer.topology(), p),
+        (other.topology(), &q),
+        name,
+        back,
+    )
+}
+
 /// The relabelling check at each of `levels`: the mesh as the slicer
 /// holds it (degenerate faces already flipped away, so the renumbered
 /// mesh needs no flip, whose order could depend on ids) against
@@ -585,21 +610,13 @@ fn same_level_set(
 pub fn check_relabelled(slicer: &Slicer<'_>, levels: &[Rat]) -> Result<(), String> {
     let (m, old_vertex, old_face) = relabelled(slicer.mesh());
     let b = Slicer::new(&m).map_err(|e| format!("the relabelled mesh: {e}"))?;
+    let back = Back::Renamed {
+        vertex: &old_vertex,
+        face: &old_face,
+    };
     for c in levels {
         let p = slicer.slice_at(c).map_err(|e| format!("at {c}: {e}"))?;
-        let q = b
-            .slice_at(c)
-            .map_err(|e| format!("the relabelled mesh at {c}: {e}"))?;
-        same_level_set(
-            c,
-            (slicer.topology(), &p),
-            (b.topology(), &q),
-            "the relabelled mesh",
-            Back::Renamed {
-                vertex: &old_vertex,
-                face: &old_face,
-            },
-        )?;
+        same_as_other(slicer, (c, &p), ("the relabelled mesh", &b), c, back)?;
     }
     Ok(())
 }
@@ -658,20 +675,40 @@ pub fn check_translated(slicer: &Slicer<'_>, levels: &[Rat]) -> Result<Option<f6
     };
     let b = Slicer::new(&m).map_err(|e| format!("the mesh moved by {t:e}: {e}"))?;
     let shift = crate::exact::rational::rat_from_f64(t);
+    let name = format!("the mesh moved by {t:e}");
     for c in levels {
         let p = slicer.slice_at(c).map_err(|e| format!("at {c}: {e}"))?;
-        let q = b
-            .slice_at(&(c + &shift))
-            .map_err(|e| format!("the mesh moved by {t:e}, at {c} + {t:e}: {e}"))?;
-        same_level_set(
-            c,
-            (slicer.topology(), &p),
-            (b.topology(), &q),
-            "the moved mesh",
-            Back::AsIs,
-        )?;
+        same_as_other(slicer, (c, &p), (&name, &b), &(c + &shift), Back::AsIs)?;
     }
     Ok(Some(t))
+}
+
+/// `mesh` turned a quarter about the z axis: `(x, y, z) -> (-y, x, z)`.
+/// Exact (a negation is a double) and orientation-preserving, so faces
+/// stay outward.
+pub fn quarter_turned(mesh: &Mesh) -> Mesh {
+    let mut m = mesh.clone();
+    for p in &mut m.positions {
+        *p = [-p[1], p[0], p[2]];
+    }
+    m
+}
+
+/// The quarter-turn check at each of `levels`: the mesh as the slicer
+/// holds it, turned by [`quarter_turned`] and sliced at the same `c`,
+/// must give equal level sets (S_O, L- and L+ loop for loop with the same
+/// exact areas, regions, ridges, extrema, saddles: a rotation keeps every
+/// signed area). The decisions that look along an axis (the nesting's
+/// rays and sweep, the choice of a loop's representative point) meet the
+/// ties of the other axis: points of equal `x` now have equal `y`.
+pub fn check_quarter_turned(slicer: &Slicer<'_>, levels: &[Rat]) -> Result<(), String> {
+    let m = quarter_turned(slicer.mesh());
+    let b = Slicer::new(&m).map_err(|e| format!("the turned mesh: {e}"))?;
+    for c in levels {
+        let p = slicer.slice_at(c).map_err(|e| format!("at {c}: {e}"))?;
+        same_as_other(slicer, (c, &p), ("the turned mesh", &b), c, Back::AsIs)?;
+    }
+    Ok(())
 }
 
 /// `v 2^k` when it is a double ([`times_pow2`] is exact then; it is one
@@ -708,26 +745,24 @@ pub fn check_scaled(slicer: &Slicer<'_>, levels: &[Rat]) -> Result<Vec<i32>, Str
     let scaled_slicers = meshes
         .iter()
         .map(|(k, m)| {
-            let b = Slicer::new(m).map_err(|e| format!("the mesh scaled by 2^{k}: {e}"))?;
-            Ok((*k, b, rat_times_pow2(&Rat::from_integer(1.into()), 2 * k)))
+            let name = format!("the mesh scaled by 2^{k}");
+            let b = Slicer::new(m).map_err(|e| format!("{name}: {e}"))?;
+            Ok((
+                *k,
+                name,
+                b,
+                rat_times_pow2(&Rat::from_integer(1.into()), 2 * k),
+            ))
         })
         .collect::<Result<Vec<_>, String>>()?;
     for c in levels {
         let p = slicer.slice_at(c).map_err(|e| format!("at {c}: {e}"))?;
-        for (k, b, area) in &scaled_slicers {
-            let q = b
-                .slice_at(&rat_times_pow2(c, *k))
-                .map_err(|e| format!("the mesh scaled by 2^{k}, at {c} 2^{k}: {e}"))?;
-            same_level_set(
-                c,
-                (slicer.topology(), &p),
-                (b.topology(), &q),
-                &format!("the mesh scaled by 2^{k}"),
-                Back::Shrunk(area),
-            )?;
+        for (k, name, b, area) in &scaled_slicers {
+            let at = rat_times_pow2(c, *k);
+            same_as_other(slicer, (c, &p), (name, b), &at, Back::Shrunk(area))?;
         }
     }
-    Ok(scaled_slicers.iter().map(|(k, _, _)| *k).collect())
+    Ok(scaled_slicers.iter().map(|(k, ..)| *k).collect())
 }
 
 /// L+ at `c` (L- when `below`) against the contours at `c + k d` for
