@@ -936,4 +936,31 @@ mod tests {
         }
         assert_ne!(m.faces, mesh.faces);
     }
+
+    #[test]
+    fn a_quarter_turn_is_exact_and_keeps_orientation() {
+        let mesh = crate::datasets::by_name("unit_cube").unwrap().build();
+        let turned = quarter_turned(&mesh);
+        let four = (0..3).fold(turned.clone(), |m, _| quarter_turned(&m));
+        assert_eq!(four.positions, mesh.positions);
+        assert_eq!(turned.faces, mesh.faces);
+        // The cube [0, 1]^3 turned is [-1, 0] x [0, 1] x [0, 1]: at z = 1/2
+        // one outer loop, counterclockwise, of exact area 1, every point's
+        // x the negated y of the original's.
+        let half = Rat::new(1.into(), 2.into());
+        let slicer = Slicer::new(&turned).unwrap();
+        let ls = slicer.slice_at(&half).unwrap();
+        let [l] = ls.contours.as_slice() else {
+            panic!("{} loops", ls.contours.len())
+        };
+        assert_eq!(
+            (l.role, l.area()),
+            (Role::Outer, Rat::from_integer(1.into()))
+        );
+        for p in &l.points {
+            let p = p.exact();
+            assert!(p.x <= Rat::from_integer(0.into()) && p.x >= Rat::from_integer((-1).into()));
+            assert!(p.y >= Rat::from_integer(0.into()) && p.y <= Rat::from_integer(1.into()));
+        }
+    }
 }
