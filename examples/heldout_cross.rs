@@ -16,9 +16,10 @@
 //! neighbouring regular levels of [`wmslice::datasets::cross_check`] (L+
 //! and L- of the mirror swapped, loop for loop; the same loops with the
 //! vertices and faces renumbered, with the mesh turned, with it moved by
-//! `2^k`, and with it scaled by `2^k` (areas by `4^k`); each limit equal in structure and exact area to the regular
-//! contours beside it). One line per file; exits with 1 when a check
-//! fails or an accepted mesh fails to slice.
+//! `2^k`, and with it scaled by `2^k` (areas by `4^k`); each limit equal
+//! in structure and exact area to the regular contours beside it). One
+//! line per file; exits with 1 when a check fails or an accepted mesh
+//! fails to slice.
 
 #[path = "support/heldout.rs"]
 mod heldout;

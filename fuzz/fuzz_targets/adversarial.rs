@@ -161,9 +161,9 @@ fuzz_target!(|data: &[u8]| {
         Err(e) => panic!("internal error on an accepted mesh (slow path): {e}\n{mesh:?}"),
     }
     // The slicer against itself: its z- and x-mirrors, a renumbering of its
-    // vertices and faces, the mesh turned a quarter about z, moved as far as its coordinates stay
-    // exact and scaled to both ends of the double range, and the regular
-    // levels beside each vertex height
+    // vertices and faces, the mesh turned a quarter about z, moved as far
+    // as its coordinates stay exact and scaled to both ends of the double
+    // range, and the regular levels beside each vertex height
     // (`datasets::cross_check`).
     let some = &levels[..levels.len().min(12)];
     if let Err(e) = check_mirror(&mesh, some)

@@ -699,8 +699,8 @@ pub fn quarter_turned(mesh: &Mesh) -> Mesh {
 /// must give equal level sets (S_O, L- and L+ loop for loop with the same
 /// exact areas, regions, ridges, extrema, saddles: a rotation keeps every
 /// signed area). The decisions that look along an axis (the nesting's
-/// rays and sweep, the choice of a loop's representative point) meet the
-/// ties of the other axis: points of equal `x` now have equal `y`.
+/// rays and sweep) meet the ties of the other axis: points of equal `x`
+/// now have equal `y`.
 pub fn check_quarter_turned(slicer: &Slicer<'_>, levels: &[Rat]) -> Result<(), String> {
     let m = quarter_turned(slicer.mesh());
     let b = Slicer::new(&m).map_err(|e| format!("the turned mesh: {e}"))?;
@@ -945,8 +945,8 @@ mod tests {
         assert_eq!(four.positions, mesh.positions);
         assert_eq!(turned.faces, mesh.faces);
         // The cube [0, 1]^3 turned is [-1, 0] x [0, 1] x [0, 1]: at z = 1/2
-        // one outer loop, counterclockwise, of exact area 1, every point's
-        // x the negated y of the original's.
+        // one outer loop, counterclockwise (positive area), of exact area
+        // 1, every point in [-1, 0] x [0, 1].
         let half = Rat::new(1.into(), 2.into());
         let slicer = Slicer::new(&turned).unwrap();
         let ls = slicer.slice_at(&half).unwrap();
