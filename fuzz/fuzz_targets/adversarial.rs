@@ -13,8 +13,9 @@
 //! (`check_level_invariants`), and its critical values
 //! (`critical::analyze`) must equal the slow path's (the full level set
 //! at every vertex height, `critical::brute_force`), and the slicer must
-//! agree with its z- and x-mirrors, with itself renumbered, moved and
-//! scaled, and with the regular levels beside each vertex height
+//! agree with its z- and x-mirrors, with itself renumbered, turned a
+//! quarter about z, moved and scaled, and with the regular levels beside
+//! each vertex height
 //! (`datasets::cross_check`). An internal error on an accepted mesh is
 //! the failure this target exists to find.
 #![no_main]
