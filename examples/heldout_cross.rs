@@ -26,8 +26,7 @@ mod heldout;
 
 use std::time::Instant;
 use wmslice::datasets::cross_check::{
-    check_all_neighbours, check_mirror, check_quarter_turned, check_relabelled, check_scaled,
-    check_translated, check_x_mirror,
+    check_all_neighbours, check_mirror, check_transformed, check_x_mirror, Transformed,
 };
 use wmslice::datasets::slab::heights_and_midpoints;
 
@@ -45,24 +44,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let result = check_mirror(&mesh, &picked)
             .and_then(|()| check_x_mirror(&mesh, &picked))
             .map_err(|e| format!("mirror: {e}"))
-            .and_then(|()| {
-                check_relabelled(&slicer, &picked).map_err(|e| format!("relabelled: {e}"))
-            })
-            .and_then(|()| {
-                check_quarter_turned(&slicer, &picked).map_err(|e| format!("turned: {e}"))
-            })
-            .and_then(|()| check_translated(&slicer, &picked).map_err(|e| format!("moved: {e}")))
-            .and_then(|moved| {
-                let scales = check_scaled(&slicer, &picked).map_err(|e| format!("scaled: {e}"))?;
-                Ok((moved, scales))
-            })
+            .and_then(|()| check_transformed(&slicer, &picked))
             .and_then(|done| {
                 check_all_neighbours(&slicer, &picked)
                     .map(|()| done)
                     .map_err(|e| format!("neighbours: {e}"))
             });
         match result {
-            Ok((moved, scales)) => println!(
+            Ok(Transformed { moved, scales }) => println!(
                 "agree     {name}: {n} levels, mirrors, relabelling, a quarter turn, {}, scaled by {} and neighbours ({:.2} s)",
                 match moved {
                     Some(t) => format!("moved by {t:e}"),

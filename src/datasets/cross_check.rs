@@ -21,30 +21,32 @@
 //!   parents, and each loop's exact area is the limit at `c` of that
 //!   loop's area, a quadratic in the level there (extrapolated exactly
 //!   from three levels).
-//! - a relabelling ([`check_relabelled`]): the same surface with its
-//!   vertices and faces renumbered and each face's corners rotated. Every
-//!   decision the slicer makes is geometric, so with the new ids mapped
-//!   back everything is the same: S_O, L- and L+ loop for loop (saddles
-//!   included), regions, ridges, extrema and saddles. A tie broken by
-//!   element ids would show here.
-//! - a far translation ([`check_translated`]): the mesh moved by `2^k` in
-//!   x and z and by `-2^k` in y, with `k` as large as keeps every
-//!   coordinate exact (far beyond the part when its coordinates' bits
-//!   span under 51, less when they span more). Nothing but the heights
-//!   changes: every loop loop for loop with the same exact area (a
-//!   polygon's area does not depend on where it lies), the same regions,
-//!   ridges, extrema and saddles. The float filters see coordinates with
-//!   no room to spare and must fall back to exact arithmetic whenever
-//!   they cannot decide.
-//! - a quarter turn about z ([`check_quarter_turned`]): `(x, y)` becomes
-//!   `(-y, x)`, exactly; every loop, area, region, ridge, extremum and
-//!   saddle the same. What looks along one axis (the nesting's rays and
-//!   sweep) meets the other axis's ties.
-//! - scales to the ends of the double range ([`check_scaled`]): the mesh
-//!   scaled by `2^k` so that its lowest bit becomes the least subnormal,
-//!   and again so that its highest becomes `2^1023`; sliced at `c 2^k`,
-//!   the same loops, regions, ridges, extrema and saddles, every exact
-//!   area `4^k` times the original's.
+//! - four transformations of the mesh, each sliced once a level beside
+//!   the original ([`check_transformed`]):
+//!   - a relabelling: the same surface with its vertices and faces
+//!     renumbered and each face's corners rotated. Every decision the
+//!     slicer makes is geometric, so with the new ids mapped back
+//!     everything is the same: S_O, L- and L+ loop for loop (saddles
+//!     included), regions, ridges, extrema and saddles. A tie broken by
+//!     element ids would show here.
+//!   - a quarter turn about z: `(x, y)` becomes `(-y, x)`, exactly; every
+//!     loop, area, region, ridge, extremum and saddle the same. What
+//!     looks along one axis (the nesting's rays and sweep) meets the
+//!     other axis's ties.
+//!   - a far translation: the mesh moved by `2^k` in x and z and by
+//!     `-2^k` in y, with `k` as large as keeps every coordinate exact
+//!     (far beyond the part when its coordinates' bits span under 51,
+//!     less when they span more). Nothing but the heights changes: every
+//!     loop loop for loop with the same exact area (a polygon's area does
+//!     not depend on where it lies), the same regions, ridges, extrema
+//!     and saddles. The float filters see coordinates with no room to
+//!     spare and must fall back to exact arithmetic whenever they cannot
+//!     decide.
+//!   - scales to the ends of the double range: the mesh scaled by `2^k`
+//!     so that its lowest bit becomes the least subnormal, and again so
+//!     that its highest becomes `2^1023`; sliced at `c 2^k`, the same
+//!     loops, regions, ridges, extrema and saddles, every exact area
+//!     `4^k` times the original's.
 //!
 //! Loops are compared by mesh element ids (vertices and edges, an edge by
 //! its two vertex ids), never by coordinates. Shared by `tests/limits.rs`
@@ -581,46 +583,6 @@ fn same_level_set(
     same_rest(c, rest(ta, p, Mirror::None), theirs, other)
 }
 
-/// The original's level set `p` at `c` against `other`'s at `at`, brought
-/// `back` ([`same_level_set`]); `name` names `other`'s mesh.
-fn same_as_other(
-    slicer: &Slicer<'_>,
-    (c, p): (&Rat, &LevelSet),
-    (name, other): (&str, &Slicer<'_>),
-    at: &Rat,
-    back: Back<'_>,
-) -> Result<(), String> {
-    let q = other
-        .slice_at(at)
-        .map_err(|e| format!("{name} at {at}: {e}"))?;
-    same_level_set(
-        c,
-        (slicer.topology(), p),
-        (other.topology(), &q),
-        name,
-        back,
-    )
-}
-
-/// The relabelling check at each of `levels`: the mesh as the slicer
-/// holds it (degenerate faces already flipped away, so the renumbered
-/// mesh needs no flip, whose order could depend on ids) against
-/// [`relabelled`], its ids mapped back: equal level sets (S_O, L- and L+
-/// loop for loop, regions, ridges, extrema, saddles).
-pub fn check_relabelled(slicer: &Slicer<'_>, levels: &[Rat]) -> Result<(), String> {
-    let (m, old_vertex, old_face) = relabelled(slicer.mesh());
-    let b = Slicer::new(&m).map_err(|e| format!("the relabelled mesh: {e}"))?;
-    let back = Back::Renamed {
-        vertex: &old_vertex,
-        face: &old_face,
-    };
-    for c in levels {
-        let p = slicer.slice_at(c).map_err(|e| format!("at {c}: {e}"))?;
-        same_as_other(slicer, (c, &p), ("the relabelled mesh", &b), c, back)?;
-    }
-    Ok(())
-}
-
 /// `(L, H)` of the mesh's nonzero coordinates ([`spread`]): `L` the
 /// least exponent of a set bit, every magnitude below `2^H`.
 fn bit_range(mesh: &Mesh) -> Option<(i32, i32)> {
@@ -664,25 +626,6 @@ pub fn translated(mesh: &Mesh, t: f64) -> Option<Mesh> {
     each_coordinate(mesh, |k, v| exact_sum(v, if k == 1 { -t } else { t }))
 }
 
-/// The far-translation check at each of `levels`: the mesh as the slicer
-/// holds it, moved by [`far_offset`] and sliced at `c + t`, must give
-/// equal level sets (S_O, L- and L+ loop for loop with the same exact
-/// areas, regions, ridges, extrema, saddles). `Ok(None)` when no offset
-/// keeps the coordinates exact; else `Ok(Some(t))`.
-pub fn check_translated(slicer: &Slicer<'_>, levels: &[Rat]) -> Result<Option<f64>, String> {
-    let Some((t, m)) = far_offset(slicer.mesh()) else {
-        return Ok(None);
-    };
-    let b = Slicer::new(&m).map_err(|e| format!("the mesh moved by {t:e}: {e}"))?;
-    let shift = crate::exact::rational::rat_from_f64(t);
-    let name = format!("the mesh moved by {t:e}");
-    for c in levels {
-        let p = slicer.slice_at(c).map_err(|e| format!("at {c}: {e}"))?;
-        same_as_other(slicer, (c, &p), (&name, &b), &(c + &shift), Back::AsIs)?;
-    }
-    Ok(Some(t))
-}
-
 /// `mesh` turned a quarter about the z axis: `(x, y, z) -> (-y, x, z)`.
 /// Exact (a negation is a double) and orientation-preserving, so faces
 /// stay outward.
@@ -692,23 +635,6 @@ pub fn quarter_turned(mesh: &Mesh) -> Mesh {
         *p = [-p[1], p[0], p[2]];
     }
     m
-}
-
-/// The quarter-turn check at each of `levels`: the mesh as the slicer
-/// holds it, turned by [`quarter_turned`] and sliced at the same `c`,
-/// must give equal level sets (S_O, L- and L+ loop for loop with the same
-/// exact areas, regions, ridges, extrema, saddles: a rotation keeps every
-/// signed area). The decisions that look along an axis (the nesting's
-/// rays and sweep) meet the ties of the other axis: points of equal `x`
-/// now have equal `y`.
-pub fn check_quarter_turned(slicer: &Slicer<'_>, levels: &[Rat]) -> Result<(), String> {
-    let m = quarter_turned(slicer.mesh());
-    let b = Slicer::new(&m).map_err(|e| format!("the turned mesh: {e}"))?;
-    for c in levels {
-        let p = slicer.slice_at(c).map_err(|e| format!("at {c}: {e}"))?;
-        same_as_other(slicer, (c, &p), ("the turned mesh", &b), c, Back::AsIs)?;
-    }
-    Ok(())
 }
 
 /// `v 2^k` when it is a double ([`times_pow2`] is exact then; it is one
@@ -723,46 +649,109 @@ pub fn scaled(mesh: &Mesh, k: i32) -> Option<Mesh> {
     each_coordinate(mesh, |_, v| exact_times_pow2(v, k))
 }
 
-/// The two scales [`check_scaled`] tries: the lowest set bit of any
+/// The two scales [`check_transformed`] tries: the lowest set bit of any
 /// coordinate taken down to `2^-1074` (the least subnormal), and the
 /// highest up to `2^1023`, when the mesh has a nonzero coordinate.
 pub fn extreme_scales(mesh: &Mesh) -> Vec<i32> {
     bit_range(mesh).map_or(Vec::new(), |(lo, hi)| vec![-1074 - lo, 1024 - hi])
 }
 
-/// The scale check at each of `levels`: the mesh as the slicer holds it,
-/// scaled by `2^k` for each of [`extreme_scales`] (coordinates at the
-/// ends of the double range, subnormals included) and sliced at `c 2^k`,
-/// must give the same loops, regions, ridges, extrema and saddles, with
-/// every exact area `4^k` times the original's. A scaled mesh that is
-/// refused is an `Err` too: the surface is the same. Returns the scales
-/// checked.
-pub fn check_scaled(slicer: &Slicer<'_>, levels: &[Rat]) -> Result<Vec<i32>, String> {
-    let meshes: Vec<(i32, Mesh)> = extreme_scales(slicer.mesh())
+/// Where a transformed mesh is sliced for the original's level `c`.
+enum At {
+    /// At `c` (the mesh renumbered or turned).
+    Same,
+    /// At `c + t` (the mesh moved by `t` in z).
+    Plus(Rat),
+    /// At `c 2^k` (the mesh scaled by `2^k`).
+    TimesPow2(i32),
+}
+
+/// What [`check_transformed`] made besides the renumbering and the turn.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Transformed {
+    /// The far translation `t` ([`far_offset`]), `None` when no offset
+    /// keeps every coordinate exact.
+    pub moved: Option<f64>,
+    /// The scales `2^k` checked ([`extreme_scales`]), by `k`.
+    pub scales: Vec<i32>,
+}
+
+/// The renumbering, the quarter turn, the far translation and the scales
+/// to both ends of the double range, at each of `levels`, the mesh as the
+/// slicer holds it sliced once a level and compared with each:
+///
+/// - [`relabelled`] (degenerate faces already flipped away, so it needs
+///   no flip, whose order could depend on ids), its ids mapped back;
+/// - [`quarter_turned`] at the same `c` (a rotation keeps every signed
+///   area; the nesting's rays and sweep, which look along one axis, meet
+///   the other axis's ties);
+/// - moved by [`far_offset`]'s `t`, at `c + t`;
+/// - scaled by `2^k` for each of [`extreme_scales`], at `c 2^k`, every
+///   exact area `4^k` times the original's.
+///
+/// Each must give equal level sets: S_O, L- and L+ loop for loop
+/// (elements, roles, parents, collapse, exact areas), regions, ridges,
+/// extrema and saddles. A transformed mesh that is refused is an `Err`
+/// too: the surface is the same.
+pub fn check_transformed(slicer: &Slicer<'_>, levels: &[Rat]) -> Result<Transformed, String> {
+    let mesh = slicer.mesh();
+    let (renumbered, old_vertex, old_face) = relabelled(mesh);
+    let turned = quarter_turned(mesh);
+    let moved = far_offset(mesh);
+    let scales: Vec<(i32, Mesh, Rat)> = extreme_scales(mesh)
         .into_iter()
-        .filter_map(|k| Some((k, scaled(slicer.mesh(), k)?)))
+        .filter_map(|k| {
+            let area = rat_times_pow2(&Rat::from_integer(1.into()), 2 * k);
+            Some((k, scaled(mesh, k)?, area))
+        })
         .collect();
-    let scaled_slicers = meshes
-        .iter()
-        .map(|(k, m)| {
-            let name = format!("the mesh scaled by 2^{k}");
+    let renamed = Back::Renamed {
+        vertex: &old_vertex,
+        face: &old_face,
+    };
+    let mut others = vec![
+        (
+            "the relabelled mesh".to_string(),
+            &renumbered,
+            At::Same,
+            renamed,
+        ),
+        ("the turned mesh".to_string(), &turned, At::Same, Back::AsIs),
+    ];
+    if let Some((t, m)) = &moved {
+        let shift = At::Plus(crate::exact::rational::rat_from_f64(*t));
+        others.push((format!("the mesh moved by {t:e}"), m, shift, Back::AsIs));
+    }
+    for (k, m, area) in &scales {
+        let name = format!("the mesh scaled by 2^{k}");
+        others.push((name, m, At::TimesPow2(*k), Back::Shrunk(area)));
+    }
+    let others = others
+        .into_iter()
+        .map(|(name, m, at, back)| {
             let b = Slicer::new(m).map_err(|e| format!("{name}: {e}"))?;
-            Ok((
-                *k,
-                name,
-                b,
-                rat_times_pow2(&Rat::from_integer(1.into()), 2 * k),
-            ))
+            Ok((name, b, at, back))
         })
         .collect::<Result<Vec<_>, String>>()?;
     for c in levels {
         let p = slicer.slice_at(c).map_err(|e| format!("at {c}: {e}"))?;
-        for (k, name, b, area) in &scaled_slicers {
-            let at = rat_times_pow2(c, *k);
-            same_as_other(slicer, (c, &p), (name, b), &at, Back::Shrunk(area))?;
+        for (name, b, at, back) in &others {
+            let at = match at {
+                At::Same => c.clone(),
+                At::Plus(t) => c + t,
+                At::TimesPow2(k) => rat_times_pow2(c, *k),
+            };
+            let q = b
+                .slice_at(&at)
+                .map_err(|e| format!("{name} at {at}: {e}"))?;
+            let (ta, tb) = (slicer.topology(), b.topology());
+            same_level_set(c, (ta, &p), (tb, &q), name, *back)?;
         }
     }
-    Ok(scaled_slicers.iter().map(|(k, ..)| *k).collect())
+    Ok(Transformed {
+        moved: moved.map(|(t, _)| t),
+        scales: scales.iter().map(|(k, ..)| *k).collect(),
+    })
 }
 
 /// L+ at `c` (L- when `below`) against the contours at `c + k d` for
