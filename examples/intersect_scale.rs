@@ -85,7 +85,7 @@ fn main() {
             (median(ts), median(cs), out)
         };
         let (search, search_cpu, n) = time(&|| {
-            let (edges, p) = face_pairs(&mesh, &topo, 1000);
+            let (edges, p) = face_pairs(&mesh, &topo, 1000, usize::MAX);
             edges.len() + p.pairs.len() + p.unlisted
         });
         if std::env::args().nth(5).is_some() {

@@ -5,14 +5,15 @@
 //! pokes through a face; the verdict of a second body moved across the
 //! first, which flips exactly where the geometry of two boxes says; nested
 //! shells, which do not intersect; and the listing (ascending, capped,
-//! counted) on meshes with thousands of pairs.
+//! counted, or counted up to a bound and then the same listing) on meshes
+//! with thousands of pairs, against the whole answer.
 
 use proptest::prelude::*;
 use std::collections::HashMap;
 use wmslice::ids::FaceId;
-use wmslice::mesh::intersect::{self_intersections, separate_face_pairs};
+use wmslice::mesh::intersect::{self_intersections, separate_face_pairs, Tally};
 use wmslice::mesh::topology::Topology;
-use wmslice::mesh::validate::{accept, validate, Defect, MAX_LISTED_DEFECTS};
+use wmslice::mesh::validate::{accept, validate, Defect, MAX_COUNTED_PAIRS, MAX_LISTED_DEFECTS};
 use wmslice::Mesh;
 
 const TETRA_POS: [[f64; 3]; 4] = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]];
@@ -319,9 +320,100 @@ fn thousands_of_pairs_are_listed_ascending_capped_and_counted() {
     assert_eq!(r.defects.len() + r.unlisted, all.len());
     // No fold among them: the listing from validation counts them all.
     let (topo, _) = Topology::build(&m);
-    let bounded = separate_face_pairs(&m, &topo, 10);
+    let bounded = separate_face_pairs(&m, &topo, 10, usize::MAX);
     assert_eq!(bounded.pairs, all[..10].to_vec());
     assert_eq!(bounded.unlisted, all.len() - 10);
+    assert_eq!(bounded.tally, Tally::Exact);
+}
+
+#[test]
+fn a_search_that_stops_counting_lists_the_same_pairs() {
+    // The two cubes' faces share no vertex: every pair is one the count
+    // may stop at. The whole answer (never stopped) is the reference.
+    let m = union(
+        &cube([0.0; 3], 1.0, 24),
+        &cube([0.5, 0.375, 0.1875], 1.0, 24),
+    );
+    let all = intersections(&m);
+    let n = all.len();
+    let (topo, _) = Topology::build(&m);
+    for (keep, stop_at) in [(10, 1), (10, 100), (100, 100), (10, n - 1), (10, n)] {
+        let found = separate_face_pairs(&m, &topo, keep, stop_at);
+        assert_eq!(found.pairs, all[..keep].to_vec(), "{keep} {stop_at}");
+        assert_eq!(found.tally, Tally::AtLeast, "{keep} {stop_at}");
+        assert_eq!(
+            found.unlisted,
+            stop_at.saturating_sub(keep),
+            "{keep} {stop_at}"
+        );
+    }
+    // One more than there are: counted to the end.
+    let found = separate_face_pairs(&m, &topo, 10, n + 1);
+    assert_eq!(found.pairs, all[..10].to_vec());
+    assert_eq!((found.unlisted, found.tally), (n - 10, Tally::Exact));
+}
+
+/// A closed cube's faces with every vertex moved to a random point of
+/// the unit cube (on the 1/1024 grid): a soup of large crossing faces, as
+/// a fuzzer makes of a mesh file's coordinates.
+fn soup() -> Mesh {
+    let mut m = cube([0.0; 3], 1.0, 6);
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    for p in &mut m.positions {
+        for c in p.iter_mut() {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1);
+            *c = (state >> 54) as f64 / 1024.0;
+        }
+    }
+    m
+}
+
+#[test]
+fn validation_of_a_soup_with_more_pairs_than_it_counts_says_at_least() {
+    let m = soup();
+    let all = intersections(&m);
+    assert!(all.len() > MAX_COUNTED_PAIRS, "{}", all.len());
+    let r = validate(&m);
+    assert_eq!(named(&m), all[..MAX_LISTED_DEFECTS].to_vec());
+    assert_eq!(r.tally, Tally::AtLeast);
+    // At least the bound, less than all: the count stopped.
+    assert!(
+        r.unlisted >= MAX_COUNTED_PAIRS - MAX_LISTED_DEFECTS,
+        "{}",
+        r.unlisted
+    );
+    assert!(r.unlisted < all.len(), "{} of {}", r.unlisted, all.len());
+    let text = r.to_string();
+    assert!(
+        text.contains(&format!("... and at least {} more", r.unlisted)),
+        "{text}"
+    );
+}
+
+#[test]
+fn check_json_says_when_its_count_is_a_lower_bound() {
+    let m = soup();
+    let mut off = format!("OFF\n{} {} 0\n", m.positions.len(), m.faces.len());
+    for p in &m.positions {
+        off += &format!("{:?} {:?} {:?}\n", p[0], p[1], p[2]);
+    }
+    for t in &m.faces {
+        off += &format!("3 {} {} {}\n", t[0].0, t[1].0, t[2].0);
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("soup.off");
+    std::fs::write(&path, off).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_wmslice"))
+        .args(["check", "--json"])
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(3));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["unlisted_count"], "at_least");
+    assert_eq!(json["unlisted_defects"], validate(&m).unlisted);
 }
 
 #[test]
@@ -337,11 +429,28 @@ fn the_listing_does_not_depend_on_the_number_of_threads() {
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| separate_face_pairs(&m, &topo, 100))
+            .install(|| separate_face_pairs(&m, &topo, 100, usize::MAX))
     };
     let one = on(1);
     assert_eq!(one.pairs.len(), 100);
     for threads in [2, 3] {
         assert_eq!(on(threads), one);
+    }
+    // Nor when the count stops, early or late.
+    let all = one.pairs.len() + one.unlisted;
+    for stop_at in [1000, all] {
+        let stopped = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| separate_face_pairs(&m, &topo, 100, stop_at))
+        };
+        let one_thread = stopped(1);
+        assert_eq!(one_thread.pairs, one.pairs);
+        assert_eq!(one_thread.tally, Tally::AtLeast);
+        for threads in [2, 3] {
+            assert_eq!(stopped(threads), one_thread);
+        }
     }
 }

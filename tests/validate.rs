@@ -340,6 +340,13 @@ fn check_exits_3_and_names_the_defect() {
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(json["stats"]["volume"], "1/6");
     assert_eq!(json["accepted"], true);
+    assert_eq!(
+        (
+            json["unlisted_defects"].as_u64(),
+            json["unlisted_count"].as_str()
+        ),
+        (Some(0), Some("exact"))
+    );
 }
 
 #[test]

@@ -10,7 +10,7 @@ use pyo3::types::PyList;
 use wmslice::layers::SweepError;
 use wmslice::mesh::io::LoadError;
 use wmslice::mesh::snap::SnapError;
-use wmslice::mesh::validate::{Report, Severity};
+use wmslice::mesh::validate::{Report, Severity, Tally};
 use wmslice::SliceError;
 
 pyo3::create_exception!(
@@ -19,7 +19,9 @@ pyo3::create_exception!(
     PyValueError,
     "The mesh is not accepted for slicing (SPEC 1). `.defects` lists every \
      defect as a dict with its `kind`, the element ids it concerns, its \
-     `severity` and `message`; `.unlisted` counts defects beyond the list."
+     `severity` and `message`; `.unlisted` counts defects beyond the list \
+     (a lower bound when `.unlisted_count` is \"at_least\": the search for \
+     self-intersections stops counting at 10 000 pairs of faces)."
 );
 pyo3::create_exception!(
     wmslice,
@@ -38,6 +40,7 @@ pub fn invalid_mesh(
     py: Python<'_>,
     defects: Vec<(serde_json::Value, String, Severity)>,
     unlisted: usize,
+    tally: Tally,
 ) -> PyErr {
     let errors: Vec<&str> = defects
         .iter()
@@ -45,8 +48,12 @@ pub fn invalid_mesh(
         .map(|d| d.1.as_str())
         .collect();
     let count = errors.len() + unlisted;
+    let at_least = match tally {
+        Tally::Exact => "",
+        Tally::AtLeast => "at least ",
+    };
     let mut message = format!(
-        "invalid mesh ({count} blocking defect{}): {}",
+        "invalid mesh ({at_least}{count} blocking defect{}): {}",
         if count == 1 { "" } else { "s" },
         errors
             .iter()
@@ -56,7 +63,10 @@ pub fn invalid_mesh(
             .join("; ")
     );
     if count > IN_MESSAGE {
-        message.push_str(&format!("; and {} more (see .defects)", count - IN_MESSAGE));
+        message.push_str(&format!(
+            "; and {at_least}{} more (see .defects)",
+            count - IN_MESSAGE
+        ));
     }
     let err = InvalidMesh::new_err(message);
     let attach = || -> PyResult<()> {
@@ -79,6 +89,13 @@ pub fn invalid_mesh(
         let v = err.value(py);
         v.setattr("defects", list)?;
         v.setattr("unlisted", unlisted)?;
+        v.setattr(
+            "unlisted_count",
+            match tally {
+                Tally::Exact => "exact",
+                Tally::AtLeast => "at_least",
+            },
+        )?;
         Ok(())
     };
     match attach() {
@@ -100,7 +117,7 @@ pub fn report_error(py: Python<'_>, report: &Report) -> PyErr {
             )
         })
         .collect();
-    invalid_mesh(py, defects, report.unlisted)
+    invalid_mesh(py, defects, report.unlisted, report.tally)
 }
 
 /// The exception for a slicing error.
@@ -138,7 +155,7 @@ pub fn snap_error(py: Python<'_>, e: SnapError) -> PyErr {
             serde_json::json!({"kind": "snap_collapsed_everything", "grid": q, "faces": faces, "span": span})
         }
     };
-    invalid_mesh(py, vec![(value, text, Severity::Error)], 0)
+    invalid_mesh(py, vec![(value, text, Severity::Error)], 0, Tally::Exact)
 }
 
 /// The exception for a file that cannot be loaded: `OSError` (with the

@@ -22,7 +22,7 @@ use wmslice::layers::{height_range, plan_levels, slice_levels_then, LayerPlan};
 use wmslice::levelset::LevelSet;
 use wmslice::mesh::io::{load_bytes_exact, load_exact, ExactPositions, LoadError, LoadReport};
 use wmslice::mesh::prepare::{prepare_exact_with, PrepareError, Prepared, Repairs};
-use wmslice::mesh::validate::Severity;
+use wmslice::mesh::validate::{Severity, Tally};
 use wmslice::output::critical::critical_json;
 use wmslice::{datasets as builtin, Mesh as RawMesh};
 
@@ -173,7 +173,7 @@ fn faces(obj: &Bound<'_, PyAny>, vertices: usize) -> PyResult<Vec<[u32; 3]>> {
         let unlisted = bad
             .len()
             .saturating_sub(wmslice::mesh::validate::MAX_LISTED_DEFECTS);
-        Err(invalid_mesh(py, defects, unlisted))
+        Err(invalid_mesh(py, defects, unlisted, Tally::Exact))
     };
     macro_rules! typed {
         ($t:ty) => {

@@ -82,6 +82,7 @@ def test_an_open_mesh_is_refused_by_name():
     assert edges == {frozenset((3, 7)), frozenset((7, 5)), frozenset((5, 3))}
     assert "open edge" in str(e.value)
     assert str(e.value).startswith("invalid mesh (3 blocking defects): ")
+    assert (e.value.unlisted, e.value.unlisted_count) == (0, "exact")
 
 
 def test_a_nan_coordinate_is_refused_by_vertex():
@@ -239,6 +240,21 @@ def test_overlapping_and_touching_bodies_are_refused_by_a_face_pair():
     apart = wmslice.Mesh(np.vstack([v, v + np.array([2.0, 0.0, 0.0])]), np.vstack([f, f + len(v)]))
     ls = apart.slice("1/2", exact=True)
     assert sorted(l.area_exact for l in ls.contours) == [1, 1]
+
+
+def test_a_soup_of_crossing_faces_is_refused_with_a_bounded_count():
+    # A closed torus's faces with every vertex moved to a random point:
+    # more crossing pairs than validation counts (10 000), so the count is
+    # a lower bound, and the listed pairs are the first ones all the same.
+    v, f = torus(16, 16)
+    v = np.random.default_rng(5).integers(0, 1024, size=v.shape) / 1024.0
+    with pytest.raises(wmslice.InvalidMesh, match="intersect") as e:
+        wmslice.Mesh(v, f)
+    assert e.value.unlisted_count == "at_least"
+    assert str(e.value).startswith("invalid mesh (at least ")
+    pairs = [(d["a"], d["b"]) for d in e.value.defects if d["kind"] == "self_intersection"]
+    assert len(pairs) == 1000 and pairs == sorted(pairs)
+    assert e.value.unlisted >= 9000
 
 
 def cube_with_a_near_vertex():

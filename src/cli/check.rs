@@ -40,6 +40,7 @@ pub fn run(a: CheckArgs) -> Result<(), Failure> {
                 v
             }).collect::<Vec<_>>(),
             "unlisted_defects": report.unlisted,
+            "unlisted_count": report.tally,
             "notes": input.notes,
         });
         say!("{}", serde_json::to_string_pretty(&doc).unwrap_or_default());

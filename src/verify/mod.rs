@@ -56,7 +56,7 @@ pub use json::JsonError;
 pub use report::{Checked, Family, Place, Problem, Report, Violation};
 
 use crate::exact::rational::{rat_to_string, Rat};
-use crate::mesh::validate::{accept, Defect};
+use crate::mesh::validate::{accept, Defect, Tally};
 use crate::mesh::Mesh;
 use crate::output::json::mesh_sha256;
 use num_traits::One;
@@ -74,12 +74,14 @@ pub enum VerifyError {
     #[error("the result is not a wmslice-levelset document with exact output: {0}")]
     Format(#[from] FormatError),
     /// The mesh is rejected for slicing, so no result can be right for it.
-    #[error("the mesh is not accepted for slicing ({count} blocking defect{}{}), so no result can be verified against it", if *count == 1 { "" } else { "s" }, first.as_ref().map(|d| format!("; first: {d}")).unwrap_or_default())]
+    #[error("the mesh is not accepted for slicing ({}{count} blocking defect{}{}), so no result can be verified against it", if *tally == Tally::AtLeast { "at least " } else { "" }, if *count == 1 { "" } else { "s" }, first.as_ref().map(|d| format!("; first: {d}")).unwrap_or_default())]
     MeshRejected {
         /// The first blocking defect.
         first: Option<Defect>,
-        /// How many blocking defects were listed.
+        /// How many blocking defects were found.
         count: usize,
+        /// Whether `count` is exact or a lower bound.
+        tally: Tally,
     },
 }
 
@@ -185,6 +187,7 @@ fn prepare<'m>(mesh: &'m Mesh, unit: Option<&Rat>) -> Result<level::MeshCtx<'m>,
     let topo = accept(mesh).map_err(|report| VerifyError::MeshRejected {
         first: report.errors().next().cloned(),
         count: report.errors().count() + report.unlisted_errors,
+        tally: report.tally,
     })?;
     Ok(level::MeshCtx {
         mesh,

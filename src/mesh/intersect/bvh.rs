@@ -34,6 +34,7 @@ use crate::exact::scale::{leading_exponent, times_pow2};
 use crate::ids::{FaceId, VertexId};
 use crate::mesh::Mesh;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// The group of a triangle in no group.
 pub(super) const NO_GROUP: u32 = u32::MAX;
@@ -524,15 +525,87 @@ impl<'m> Bvh<'m> {
 
     /// Calls `test` on every pair of triangles with no shared vertex id,
     /// not in one group, whose volumes meet (each named by its position in
-    /// the input, as a [`FaceId`]), and collects the pairs it accepts.
+    /// the input, as a [`FaceId`]), and collects the pairs it accepts; or,
+    /// once it has accepted `stop_at` pairs (there are at least that many),
+    /// stops and returns `None`. Which of the two happens does not depend
+    /// on the order of the search: `None` exactly when `test` accepts
+    /// `stop_at` pairs or more.
     #[inline(never)]
-    pub(super) fn pairs<T>(&self, test: &T, keep: usize) -> Found
+    pub(super) fn pairs<T>(&self, test: &T, keep: usize, stop_at: usize) -> Option<Found>
     where
         T: Fn(FaceId, FaceId) -> bool + Sync,
     {
+        let search = Search {
+            test,
+            accepted: AtomicUsize::new(0),
+            stop_at,
+        };
         let mut found = Found::new(keep);
-        self.within(1, self.height, test, &mut found);
-        found
+        self.within(1, self.height, &search, &mut found);
+        (!search.stopped()).then_some(found)
+    }
+
+    /// The first `keep` pairs, in ascending order, that `test` accepts of
+    /// those [`Bvh::pairs`] hands to it: face by face in ascending order,
+    /// each against the later faces whose volumes meet its own (found by
+    /// descending the tree), until `keep` are found. Sequential: for when
+    /// [`Bvh::pairs`] stopped, where pairs abound.
+    pub(super) fn first_pairs<T>(&self, test: &T, keep: usize) -> Vec<(FaceId, FaceId)>
+    where
+        T: Fn(FaceId, FaceId) -> bool,
+    {
+        let mut place = vec![(0, 0); self.len];
+        for (i, leaf) in self.leaves.iter().enumerate() {
+            for s in 0..self.filled(i) {
+                place[leaf.face[s] as usize] = (i, s);
+            }
+        }
+        let mut first = Vec::new();
+        let mut later = Vec::new();
+        for (a, &(i, s)) in place.iter().enumerate() {
+            later.clear();
+            self.later_partners(1, self.height, &self.leaves[i], s, &mut later);
+            later.sort_unstable();
+            for &b in &later {
+                let pair = (FaceId::from_idx(a), FaceId(b));
+                if first.len() < keep && test(pair.0, pair.1) {
+                    first.push(pair);
+                }
+            }
+            if first.len() >= keep {
+                break;
+            }
+        }
+        first
+    }
+
+    /// Adds to `out` the triangles of node `n` (of height `h`) that come
+    /// after the one in slot `s` of `leaf` in the input and that
+    /// [`Bvh::visit`] would test against it.
+    fn later_partners(&self, n: usize, h: u32, leaf: &Leaf, s: usize, out: &mut Vec<u32>) {
+        let (b, group) = (leaf.bounds(s), leaf.group[s]);
+        if !self.nodes[n].meets(&b) || (group != NO_GROUP && self.tags[n] == group) {
+            return;
+        }
+        if h > 0 {
+            self.later_partners(2 * n, h - 1, leaf, s, out);
+            self.later_partners(2 * n + 1, h - 1, leaf, s, out);
+            return;
+        }
+        let i = n - (1 << self.height);
+        let Some(other) = self.leaves.get(i) else {
+            return;
+        };
+        let v = [0, 1, 2].map(|k| leaf.v[k][s]);
+        let mut mask = other.candidates(&b, v, group) & Self::slots(self.filled(i));
+        let own = self.slabs(leaf, s);
+        while mask != 0 {
+            let t = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            if other.face[t] > leaf.face[s] && own.meets(&self.slabs(other, t)) {
+                out.push(other.face[t]);
+            }
+        }
     }
 
     /// How many slots of leaf `i` hold a triangle (none for a padding
@@ -554,11 +627,11 @@ impl<'m> Bvh<'m> {
     }
 
     /// Pairs within node `n` of height `h`.
-    fn within<T>(&self, n: usize, h: u32, test: &T, found: &mut Found)
+    fn within<T>(&self, n: usize, h: u32, search: &Search<T>, found: &mut Found)
     where
         T: Fn(FaceId, FaceId) -> bool + Sync,
     {
-        if self.tags[n] != NO_GROUP {
+        if self.tags[n] != NO_GROUP || search.stopped() {
             return;
         }
         if h == 0 {
@@ -571,7 +644,7 @@ impl<'m> Bvh<'m> {
                 let later = !0u32 << (s + 1) & Self::slots(n);
                 let v = [0, 1, 2].map(|k| leaf.v[k][s]);
                 let mask = leaf.candidates(&leaf.bounds(s), v, leaf.group[s]) & later;
-                self.visit(leaf, s, leaf, mask, test, found);
+                self.visit(leaf, s, leaf, mask, search, found);
             }
             return;
         }
@@ -580,11 +653,11 @@ impl<'m> Bvh<'m> {
             let keep = found.keep;
             let (mut x, mut y, mut z) = (Found::new(keep), Found::new(keep), Found::new(keep));
             rayon::join(
-                || self.within(a, h - 1, test, &mut x),
+                || self.within(a, h - 1, search, &mut x),
                 || {
                     rayon::join(
-                        || self.within(b, h - 1, test, &mut y),
-                        || self.across(a, b, h - 1, test, &mut z),
+                        || self.within(b, h - 1, search, &mut y),
+                        || self.across(a, b, h - 1, search, &mut z),
                     )
                 },
             );
@@ -592,25 +665,28 @@ impl<'m> Bvh<'m> {
             found.absorb(y);
             found.absorb(z);
         } else {
-            self.within(a, h - 1, test, found);
-            self.within(b, h - 1, test, found);
-            self.across(a, b, h - 1, test, found);
+            self.within(a, h - 1, search, found);
+            self.within(b, h - 1, search, found);
+            self.across(a, b, h - 1, search, found);
         }
     }
 
     /// Pairs with one face in node `i` and one in node `j`, both of height
     /// `h`.
-    fn across<T>(&self, i: usize, j: usize, h: u32, test: &T, found: &mut Found)
+    fn across<T>(&self, i: usize, j: usize, h: u32, search: &Search<T>, found: &mut Found)
     where
         T: Fn(FaceId, FaceId) -> bool + Sync,
     {
         let (bi, bj) = (&self.nodes[i], &self.nodes[j]);
-        if !bi.meets(bj) || (self.tags[i] != NO_GROUP && self.tags[i] == self.tags[j]) {
+        if !bi.meets(bj)
+            || (self.tags[i] != NO_GROUP && self.tags[i] == self.tags[j])
+            || search.stopped()
+        {
             return;
         }
         if h == 0 {
             let first = 1 << self.height;
-            return self.leaf_pair(i - first, j - first, [bi, bj], test, found);
+            return self.leaf_pair(i - first, j - first, [bi, bj], search, found);
         }
         let (i0, i1, j0, j1) = (2 * i, 2 * i + 1, 2 * j, 2 * j + 1);
         if self.par(h) {
@@ -620,14 +696,14 @@ impl<'m> Bvh<'m> {
             rayon::join(
                 || {
                     rayon::join(
-                        || self.across(i0, j0, h - 1, test, p0),
-                        || self.across(i0, j1, h - 1, test, p1),
+                        || self.across(i0, j0, h - 1, search, p0),
+                        || self.across(i0, j1, h - 1, search, p1),
                     )
                 },
                 || {
                     rayon::join(
-                        || self.across(i1, j0, h - 1, test, p2),
-                        || self.across(i1, j1, h - 1, test, p3),
+                        || self.across(i1, j0, h - 1, search, p2),
+                        || self.across(i1, j1, h - 1, search, p3),
                     )
                 },
             );
@@ -635,10 +711,10 @@ impl<'m> Bvh<'m> {
                 found.absorb(p);
             }
         } else {
-            self.across(i0, j0, h - 1, test, found);
-            self.across(i0, j1, h - 1, test, found);
-            self.across(i1, j0, h - 1, test, found);
-            self.across(i1, j1, h - 1, test, found);
+            self.across(i0, j0, h - 1, search, found);
+            self.across(i0, j1, h - 1, search, found);
+            self.across(i1, j0, h - 1, search, found);
+            self.across(i1, j1, h - 1, search, found);
         }
     }
 
@@ -647,8 +723,14 @@ impl<'m> Bvh<'m> {
     /// (two vector tests; most leaf pairs end here), then each such face
     /// of `i` against those of `j` at once.
     #[inline]
-    fn leaf_pair<T>(&self, i: usize, j: usize, [bi, bj]: [&Bounds; 2], test: &T, found: &mut Found)
-    where
+    fn leaf_pair<T>(
+        &self,
+        i: usize,
+        j: usize,
+        [bi, bj]: [&Bounds; 2],
+        search: &Search<T>,
+        found: &mut Found,
+    ) where
         T: Fn(FaceId, FaceId) -> bool,
     {
         let (Some(li), Some(lj)) = (self.leaves.get(i), self.leaves.get(j)) else {
@@ -664,7 +746,7 @@ impl<'m> Bvh<'m> {
             in_i &= in_i - 1;
             let v = [0, 1, 2].map(|k| li.v[k][s]);
             let mask = lj.candidates(&li.bounds(s), v, li.group[s]) & in_j;
-            self.visit(li, s, lj, mask, test, found);
+            self.visit(li, s, lj, mask, search, found);
         }
     }
 
@@ -673,28 +755,55 @@ impl<'m> Bvh<'m> {
     /// shared vertex id, not in one group) when their diagonal extents
     /// meet too.
     #[inline(always)]
-    fn visit<T>(&self, a: &Leaf, s: usize, b: &Leaf, mut mask: u32, test: &T, found: &mut Found)
-    where
+    fn visit<T>(
+        &self,
+        a: &Leaf,
+        s: usize,
+        b: &Leaf,
+        mut mask: u32,
+        search: &Search<T>,
+        found: &mut Found,
+    ) where
         T: Fn(FaceId, FaceId) -> bool,
     {
         if mask == 0 {
             return;
         }
-        let slabs = |l: &Leaf, t: usize| {
-            let v = [0, 1, 2].map(|k| l.v[k][t] as usize);
-            Slabs::of(self.frame.place_all(v.map(|v| self.mesh.positions[v])))
-        };
-        let sa = slabs(a, s);
+        let sa = self.slabs(a, s);
         while mask != 0 {
             let t = mask.trailing_zeros() as usize;
             mask &= mask - 1;
-            if sa.meets(&slabs(b, t)) {
+            if sa.meets(&self.slabs(b, t)) {
                 let (fa, fb) = (FaceId(a.face[s]), FaceId(b.face[t]));
-                if test(fa, fb) {
+                if (search.test)(fa, fb) {
+                    search.accepted.fetch_add(1, Ordering::Relaxed);
                     found.push(fa, fb);
                 }
             }
         }
+    }
+
+    /// The diagonal extents of the triangle in slot `t` of `l`.
+    #[inline(always)]
+    fn slabs(&self, l: &Leaf, t: usize) -> Slabs {
+        let v = [0, 1, 2].map(|k| l.v[k][t] as usize);
+        Slabs::of(self.frame.place_all(v.map(|v| self.mesh.positions[v])))
+    }
+}
+
+/// One search of [`Bvh::pairs`]: its test, and how many pairs the test
+/// has accepted (shared by the search's tasks), up to `stop_at`.
+struct Search<'t, T> {
+    test: &'t T,
+    accepted: AtomicUsize,
+    stop_at: usize,
+}
+
+impl<T> Search<'_, T> {
+    /// Whether the search has accepted `stop_at` pairs.
+    #[inline]
+    fn stopped(&self) -> bool {
+        self.accepted.load(Ordering::Relaxed) >= self.stop_at
     }
 }
 
@@ -714,6 +823,7 @@ mod tests {
                 false
             },
             0,
+            usize::MAX,
         );
         let mut seen = seen.into_inner().unwrap();
         seen.sort_unstable();
@@ -723,6 +833,13 @@ mod tests {
     /// 300 small triangles (sides up to 4/64) at random places on the
     /// `1/64` grid in `[0, 1.5]^3`, no vertex shared.
     fn soup() -> Mesh {
+        soup_within(92)
+    }
+
+    /// 300 small triangles (sides up to 4/64) at random places on the
+    /// `1/64` grid, their lowest corner in `[0, cells / 64)^3`, no vertex
+    /// shared.
+    fn soup_within(cells: u64) -> Mesh {
         let mut state = 7u64;
         let mut next = |n: u64| {
             state = state
@@ -732,7 +849,7 @@ mod tests {
         };
         let mut mesh = Mesh::default();
         for t in 0..300u32 {
-            let base: [u64; 3] = std::array::from_fn(|_| next(92));
+            let base: [u64; 3] = std::array::from_fn(|_| next(cells));
             for _ in 0..3 {
                 let p: [f64; 3] = std::array::from_fn(|k| (base[k] + next(5)) as f64 / 64.0);
                 mesh.positions.push(p);
@@ -768,6 +885,54 @@ mod tests {
             ("huge", moved(&|x| times_pow2(x, 1000))),
         ] {
             assert_eq!(candidates(&copy), reference, "{name}");
+        }
+    }
+
+    /// `first_pairs` hands its test the pairs `pairs` hands to its own,
+    /// each once, smaller face first, in ascending order; and with a test
+    /// that accepts a pair, it returns the first `keep` of them.
+    #[test]
+    fn the_first_pairs_are_the_first_of_the_pairs_tested() {
+        let mesh = soup_within(16);
+        let reference = candidates(&mesh);
+        let tree = Bvh::build(&mesh, &mesh.faces, None, false);
+        let seen = Mutex::new(Vec::new());
+        let first = tree.first_pairs(
+            &|a: FaceId, b: FaceId| {
+                seen.lock().unwrap().push((a, b));
+                true
+            },
+            usize::MAX,
+        );
+        assert_eq!(seen.into_inner().unwrap(), reference);
+        assert_eq!(first, reference);
+        // A test that accepts about a third of the pairs: the first 5 of
+        // those.
+        let every_third = |a: FaceId, b: FaceId| (a.0 + b.0) % 3 == 0;
+        let accepted: Vec<_> = reference
+            .iter()
+            .copied()
+            .filter(|&(a, b)| every_third(a, b))
+            .collect();
+        assert!(accepted.len() > 5, "{}", accepted.len());
+        assert_eq!(tree.first_pairs(&every_third, 5), accepted[..5].to_vec());
+    }
+
+    /// `pairs` stops (returns `None`) exactly when its test accepts
+    /// `stop_at` pairs or more, in one thread or many.
+    #[test]
+    fn the_search_stops_at_its_count() {
+        let mesh = soup_within(16);
+        let n = candidates(&mesh).len();
+        assert!(n > 100, "{n}");
+        for parallel in [false, true] {
+            let tree = Bvh::build(&mesh, &mesh.faces, None, parallel);
+            let all = |_: FaceId, _: FaceId| true;
+            for stop_at in [0, 1, n - 1, n] {
+                assert!(tree.pairs(&all, 10, stop_at).is_none(), "{stop_at} of {n}");
+            }
+            let found = tree.pairs(&all, 10, n + 1).expect("not stopped").finish();
+            assert_eq!((found.pairs.len(), found.unlisted), (10, n - 10));
         }
     }
 }

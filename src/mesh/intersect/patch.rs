@@ -145,7 +145,7 @@ pub(super) fn certified_patches(
         }
         false
     };
-    tree.pairs(&meets, 0);
+    tree.pairs(&meets, 0, usize::MAX);
     // Certified patches, renumbered from 0.
     let mut renumber = vec![NO_GROUP; candidates as usize];
     let mut next = 0;
