@@ -371,6 +371,54 @@ fn soup() -> Mesh {
 }
 
 #[test]
+fn a_fan_folded_every_which_way_stops_counting_with_the_same_listing() {
+    // A double cone: apexes 0 (top) and 1 (bottom), each with a fan of 300
+    // faces over a ring of 300 random points of the unit cube: pairs of
+    // faces sharing an apex by the thousand, and pairs sharing none.
+    let n = 300u32;
+    let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1);
+        (state >> 54) as f64 / 1024.0
+    };
+    let mut positions = vec![[0.5, 0.5, 2.0], [0.5, 0.5, -1.0]];
+    positions.extend((0..n).map(|_| [next(), next(), next()]));
+    let mut faces = Vec::new();
+    for i in 0..n {
+        let (a, b) = (2 + i, 2 + (i + 1) % n);
+        faces.push([0, a, b]);
+        faces.push([1, b, a]);
+    }
+    let m = Mesh::from_raw(positions, faces);
+    let (topo, issues) = Topology::build(&m);
+    assert!(issues.is_empty(), "{issues:?}");
+    let all = separate_face_pairs(&m, &topo, usize::MAX, usize::MAX).pairs;
+    let shares = |&(a, b): &(FaceId, FaceId)| {
+        let [fa, fb] = [a, b].map(|f| m.faces[f.idx()]);
+        fa.iter().any(|v| fb.contains(v))
+    };
+    let at_apexes = all.iter().filter(|p| shares(p)).count();
+    assert!(
+        at_apexes > 1000 && at_apexes < all.len(),
+        "{at_apexes} of {}",
+        all.len()
+    );
+    for stop_at in [1, 1000, at_apexes, all.len()] {
+        let found = separate_face_pairs(&m, &topo, 100, stop_at);
+        assert_eq!(found.pairs, all[..100].to_vec(), "{stop_at}");
+        assert_eq!(found.tally, Tally::AtLeast, "{stop_at}");
+    }
+    let found = separate_face_pairs(&m, &topo, 100, all.len() + 1);
+    assert_eq!(found.pairs, all[..100].to_vec());
+    assert_eq!(
+        (found.unlisted, found.tally),
+        (all.len() - 100, Tally::Exact)
+    );
+}
+
+#[test]
 fn validation_of_a_soup_with_more_pairs_than_it_counts_says_at_least() {
     let m = soup();
     let all = intersections(&m);

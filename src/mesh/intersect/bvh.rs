@@ -28,13 +28,12 @@
 //! Coordinates beyond the `f32` range give infinite bounds, which only
 //! makes volumes larger.
 
-use super::Found;
+use super::{Found, Stop};
 use crate::exact::rational::decompose;
 use crate::exact::scale::{leading_exponent, times_pow2};
 use crate::ids::{FaceId, VertexId};
 use crate::mesh::Mesh;
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// The group of a triangle in no group.
 pub(super) const NO_GROUP: u32 = u32::MAX;
@@ -525,71 +524,49 @@ impl<'m> Bvh<'m> {
 
     /// Calls `test` on every pair of triangles with no shared vertex id,
     /// not in one group, whose volumes meet (each named by its position in
-    /// the input, as a [`FaceId`]), and collects the pairs it accepts; or,
-    /// once it has accepted `stop_at` pairs (there are at least that many),
-    /// stops and returns `None`. Which of the two happens does not depend
-    /// on the order of the search: `None` exactly when `test` accepts
-    /// `stop_at` pairs or more.
+    /// the input, as a [`FaceId`]), and collects the pairs it accepts,
+    /// each counted on `stop`; once `stop` is reached, stops early (the
+    /// pairs collected are then some of them).
     #[inline(never)]
-    pub(super) fn pairs<T>(&self, test: &T, keep: usize, stop_at: usize) -> Option<Found>
+    pub(super) fn pairs<T>(&self, test: &T, keep: usize, stop: &Stop) -> Found
     where
         T: Fn(FaceId, FaceId) -> bool + Sync,
     {
-        let search = Search {
-            test,
-            accepted: AtomicUsize::new(0),
-            stop_at,
-        };
         let mut found = Found::new(keep);
-        self.within(1, self.height, &search, &mut found);
-        (!search.stopped()).then_some(found)
+        self.within(1, self.height, &Search { test, stop }, &mut found);
+        found
     }
 
-    /// The first `keep` pairs, in ascending order, that `test` accepts of
-    /// those [`Bvh::pairs`] hands to it: face by face in ascending order,
-    /// each against the later faces whose volumes meet its own (found by
-    /// descending the tree), until `keep` are found. Sequential: for when
-    /// [`Bvh::pairs`] stopped, where pairs abound.
-    pub(super) fn first_pairs<T>(&self, test: &T, keep: usize) -> Vec<(FaceId, FaceId)>
-    where
-        T: Fn(FaceId, FaceId) -> bool,
-    {
+    /// Where each triangle is: its leaf and slot, by its position in the
+    /// input.
+    pub(super) fn places(&self) -> Vec<(usize, usize)> {
         let mut place = vec![(0, 0); self.len];
         for (i, leaf) in self.leaves.iter().enumerate() {
             for s in 0..self.filled(i) {
                 place[leaf.face[s] as usize] = (i, s);
             }
         }
-        let mut first = Vec::new();
-        let mut later = Vec::new();
-        for (a, &(i, s)) in place.iter().enumerate() {
-            later.clear();
-            self.later_partners(1, self.height, &self.leaves[i], s, &mut later);
-            later.sort_unstable();
-            for &b in &later {
-                let pair = (FaceId::from_idx(a), FaceId(b));
-                if first.len() < keep && test(pair.0, pair.1) {
-                    first.push(pair);
-                }
-            }
-            if first.len() >= keep {
-                break;
-            }
-        }
-        first
+        place
     }
 
-    /// Adds to `out` the triangles of node `n` (of height `h`) that come
-    /// after the one in slot `s` of `leaf` in the input and that
-    /// [`Bvh::visit`] would test against it.
-    fn later_partners(&self, n: usize, h: u32, leaf: &Leaf, s: usize, out: &mut Vec<u32>) {
+    /// Adds to `out` the triangles after `a` in the input that
+    /// [`Bvh::pairs`] would hand its test with `a` (found by descending
+    /// the tree), in no particular order; `place` is [`Bvh::places`].
+    pub(super) fn later_partners(&self, place: &[(usize, usize)], a: FaceId, out: &mut Vec<u32>) {
+        let (i, s) = place[a.idx()];
+        self.later_in_node(1, self.height, &self.leaves[i], s, out);
+    }
+
+    /// [`Bvh::later_partners`] of the triangle in slot `s` of `leaf`, in
+    /// node `n` of height `h`.
+    fn later_in_node(&self, n: usize, h: u32, leaf: &Leaf, s: usize, out: &mut Vec<u32>) {
         let (b, group) = (leaf.bounds(s), leaf.group[s]);
         if !self.nodes[n].meets(&b) || (group != NO_GROUP && self.tags[n] == group) {
             return;
         }
         if h > 0 {
-            self.later_partners(2 * n, h - 1, leaf, s, out);
-            self.later_partners(2 * n + 1, h - 1, leaf, s, out);
+            self.later_in_node(2 * n, h - 1, leaf, s, out);
+            self.later_in_node(2 * n + 1, h - 1, leaf, s, out);
             return;
         }
         let i = n - (1 << self.height);
@@ -776,7 +753,7 @@ impl<'m> Bvh<'m> {
             if sa.meets(&self.slabs(b, t)) {
                 let (fa, fb) = (FaceId(a.face[s]), FaceId(b.face[t]));
                 if (search.test)(fa, fb) {
-                    search.accepted.fetch_add(1, Ordering::Relaxed);
+                    search.stop.count();
                     found.push(fa, fb);
                 }
             }
@@ -791,19 +768,16 @@ impl<'m> Bvh<'m> {
     }
 }
 
-/// One search of [`Bvh::pairs`]: its test, and how many pairs the test
-/// has accepted (shared by the search's tasks), up to `stop_at`.
+/// One search of [`Bvh::pairs`]: its test, and the count it stops at.
 struct Search<'t, T> {
     test: &'t T,
-    accepted: AtomicUsize,
-    stop_at: usize,
+    stop: &'t Stop,
 }
 
 impl<T> Search<'_, T> {
-    /// Whether the search has accepted `stop_at` pairs.
     #[inline]
     fn stopped(&self) -> bool {
-        self.accepted.load(Ordering::Relaxed) >= self.stop_at
+        self.stop.reached()
     }
 }
 
@@ -823,7 +797,7 @@ mod tests {
                 false
             },
             0,
-            usize::MAX,
+            &Stop::never(),
         );
         let mut seen = seen.into_inner().unwrap();
         seen.sort_unstable();
@@ -888,51 +862,40 @@ mod tests {
         }
     }
 
-    /// `first_pairs` hands its test the pairs `pairs` hands to its own,
-    /// each once, smaller face first, in ascending order; and with a test
-    /// that accepts a pair, it returns the first `keep` of them.
+    /// `later_partners`, over every triangle, gives the pairs `pairs`
+    /// hands to its test, each once, smaller face first.
     #[test]
-    fn the_first_pairs_are_the_first_of_the_pairs_tested() {
+    fn the_later_partners_are_the_pairs_tested() {
         let mesh = soup_within(16);
         let reference = candidates(&mesh);
+        assert!(reference.len() > 100, "{}", reference.len());
         let tree = Bvh::build(&mesh, &mesh.faces, None, false);
-        let seen = Mutex::new(Vec::new());
-        let first = tree.first_pairs(
-            &|a: FaceId, b: FaceId| {
-                seen.lock().unwrap().push((a, b));
-                true
-            },
-            usize::MAX,
-        );
-        assert_eq!(seen.into_inner().unwrap(), reference);
-        assert_eq!(first, reference);
-        // A test that accepts about a third of the pairs: the first 5 of
-        // those.
-        let every_third = |a: FaceId, b: FaceId| (a.0 + b.0) % 3 == 0;
-        let accepted: Vec<_> = reference
-            .iter()
-            .copied()
-            .filter(|&(a, b)| every_third(a, b))
-            .collect();
-        assert!(accepted.len() > 5, "{}", accepted.len());
-        assert_eq!(tree.first_pairs(&every_third, 5), accepted[..5].to_vec());
+        let place = tree.places();
+        let mut all = Vec::new();
+        for a in 0..mesh.faces.len() {
+            let mut later = Vec::new();
+            tree.later_partners(&place, FaceId::from_idx(a), &mut later);
+            later.sort_unstable();
+            all.extend(later.into_iter().map(|b| (FaceId::from_idx(a), FaceId(b))));
+        }
+        assert_eq!(all, reference);
     }
 
-    /// `pairs` stops (returns `None`) exactly when its test accepts
-    /// `stop_at` pairs or more, in one thread or many.
+    /// `pairs` collects every accepted pair, counted on its stop, and
+    /// stops early once the stop is reached.
     #[test]
-    fn the_search_stops_at_its_count() {
+    fn the_search_counts_on_its_stop() {
         let mesh = soup_within(16);
         let n = candidates(&mesh).len();
-        assert!(n > 100, "{n}");
-        for parallel in [false, true] {
-            let tree = Bvh::build(&mesh, &mesh.faces, None, parallel);
-            let all = |_: FaceId, _: FaceId| true;
-            for stop_at in [0, 1, n - 1, n] {
-                assert!(tree.pairs(&all, 10, stop_at).is_none(), "{stop_at} of {n}");
-            }
-            let found = tree.pairs(&all, 10, n + 1).expect("not stopped").finish();
-            assert_eq!((found.pairs.len(), found.unlisted), (10, n - 10));
-        }
+        let tree = Bvh::build(&mesh, &mesh.faces, None, false);
+        let all = |_: FaceId, _: FaceId| true;
+        let stop = Stop::at(n + 1);
+        let found = tree.pairs(&all, 10, &stop).finish();
+        assert_eq!((found.pairs.len(), found.unlisted), (10, n - 10));
+        assert!(!stop.reached());
+        let stop = Stop::at(n / 2);
+        let found = tree.pairs(&all, 10, &stop).finish();
+        assert!(stop.reached());
+        assert!(found.pairs.len() + found.unlisted < n, "{n}");
     }
 }

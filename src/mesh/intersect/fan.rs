@@ -18,18 +18,27 @@
 //! [`vertex_faces_overlap`].
 
 use super::narrow::{vertex_faces_overlap, P};
-use super::Found;
+use super::{Found, Stop};
 use crate::exact::orient_filter::Filter;
 use crate::exact::predicates::Sign;
-use crate::ids::VertexId;
-use crate::mesh::topology::FanEntry;
+use crate::ids::{FaceId, VertexId};
+use crate::mesh::topology::{FanEntry, Topology};
 use crate::mesh::Mesh;
 
-/// Adds the improper pairs among the faces of `v`'s fan that share no edge.
+/// Adds the improper pairs among the faces of `v`'s fan that share no
+/// edge, each counted on `stop`; once `stop` is reached, stops early (the
+/// pairs added are then some of them).
 #[inline(never)]
-pub(super) fn fan_pairs(f: Filter, mesh: &Mesh, v: VertexId, fan: &[FanEntry], found: &mut Found) {
+pub(super) fn fan_pairs(
+    f: Filter,
+    mesh: &Mesh,
+    v: VertexId,
+    fan: &[FanEntry],
+    stop: &Stop,
+    found: &mut Found,
+) {
     let k = fan.len();
-    if k < 4 {
+    if k < 4 || stop.reached() {
         // Every two faces of a fan of three share an edge.
         return;
     }
@@ -54,15 +63,62 @@ pub(super) fn fan_pairs(f: Filter, mesh: &Mesh, v: VertexId, fan: &[FanEntry], f
         return;
     }
     for i in 0..k {
+        if stop.reached() {
+            return;
+        }
         for j in i + 2..k {
             if i == 0 && j == k - 1 {
                 continue; // neighbours across the cycle's seam
             }
             if vertex_faces_overlap(f, pv, n[i], n[i + 1], n[j], n[j + 1]) {
+                stop.count();
                 found.push(fan[i].face, fan[j].face);
             }
         }
     }
+}
+
+/// A face after another in the input that shares one vertex with it: the
+/// later face, the vertex, and the two faces' places in its fan.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub(super) struct AtVertex {
+    pub(super) face: FaceId,
+    v: VertexId,
+    i: usize,
+    j: usize,
+}
+
+/// Adds to `out` the faces after `a` in the input that share exactly one
+/// vertex with it (those [`fan_pairs`] would test with `a`, or show apart
+/// by a star), in no particular order.
+pub(super) fn later_partners(mesh: &Mesh, topo: &Topology, a: FaceId, out: &mut Vec<AtVertex>) {
+    for v in mesh.faces[a.idx()] {
+        let fan = topo.fan(v);
+        let k = fan.len();
+        let Some(i) = fan.iter().position(|e| e.face == a) else {
+            continue;
+        };
+        for (j, e) in fan.iter().enumerate() {
+            let neighbours = j == i || (j + 1) % k == i || (i + 1) % k == j;
+            if !neighbours && e.face > a {
+                out.push(AtVertex {
+                    face: e.face,
+                    v,
+                    i,
+                    j,
+                });
+            }
+        }
+    }
+}
+
+/// Whether the two faces of `p` meet beyond their shared vertex.
+pub(super) fn meet(f: Filter, mesh: &Mesh, topo: &Topology, p: &AtVertex) -> bool {
+    let fan = topo.fan(p.v);
+    let n = |k: usize| mesh.pos(fan[k % fan.len()].neighbour);
+    // In fan order, as `fan_pairs` asks.
+    let (i, j) = (p.i.min(p.j), p.i.max(p.j));
+    vertex_faces_overlap(f, mesh.pos(p.v), n(i), n(i + 1), n(j), n(j + 1))
 }
 
 /// The sum of the faces' cross products, in floating point (a heuristic

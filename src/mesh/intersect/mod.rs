@@ -28,11 +28,13 @@
 //! rayon's pool for large meshes (see `crate::par`); the answer does not
 //! depend on it: pairs are listed in ascending order, the first `keep`
 //! listed and the rest counted. A search may be told to stop counting
-//! pairs of faces with no shared vertex once it has found so many
-//! ([`Tally::AtLeast`]): a soup of crossing faces has pairs by the
-//! million, and counting them all took minutes for a 300 KB file; the
-//! first `keep` are then found face by face, ascending, so the listing is
-//! the same as a whole count would give.
+//! once it has found so many pairs ([`Tally::AtLeast`]): a soup of
+//! crossing faces has pairs by the million (a fuzzed 300 KB file, 8.8
+//! million, 29 s to count), and so has a fan of a few thousand faces
+//! around one vertex folded every which way; the first `keep` are then
+//! found face by face, ascending (each face against the later faces that
+//! share one vertex with it or whose volumes meet its own), so the
+//! listing is the same as a whole count would give.
 
 mod bvh;
 mod fan;
@@ -51,6 +53,7 @@ use crate::mesh::topology::Topology;
 use crate::mesh::Mesh;
 use crate::par;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Face pairs, ascending, each `(a, b)` with `a < b`.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -72,6 +75,39 @@ pub enum Tally {
     Exact,
     /// The search stopped counting: there are at least that many.
     AtLeast,
+}
+
+/// A count of the pairs found, shared by the tasks of one search, and the
+/// count at which the search stops.
+pub(crate) struct Stop {
+    found: AtomicUsize,
+    at: usize,
+}
+
+impl Stop {
+    pub(crate) fn at(at: usize) -> Stop {
+        Stop {
+            found: AtomicUsize::new(0),
+            at,
+        }
+    }
+
+    /// A stop that is never reached.
+    pub(crate) fn never() -> Stop {
+        Stop::at(usize::MAX)
+    }
+
+    /// One more pair found.
+    #[inline]
+    pub(crate) fn count(&self) {
+        self.found.fetch_add(1, Ordering::Relaxed);
+    }
+
+    /// Whether `at` pairs have been found.
+    #[inline]
+    pub(crate) fn reached(&self) -> bool {
+        self.found.load(Ordering::Relaxed) >= self.at
+    }
 }
 
 /// Pairs being collected: the `keep` smallest seen, and a count of the
@@ -203,9 +239,10 @@ pub fn edge_overlaps(mesh: &Mesh, topo: &Topology) -> Vec<(EdgeId, EdgeOverlap)>
 
 /// The improper edges, as [`edge_overlaps`], and the pairs of faces
 /// sharing one vertex id or none that meet anywhere but in that vertex:
-/// ascending, the first `keep` listed. Pairs sharing no vertex are counted
-/// up to `stop_at`: with that many or more, the count is a lower bound
-/// ([`Tally::AtLeast`]); the listing is the same either way.
+/// ascending, the first `keep` listed. The pairs are counted up to
+/// `stop_at`: with that many or more, the count is a lower bound
+/// ([`Tally::AtLeast`]); the listing is the same either way, and so is
+/// whether the count stops (it depends on the number of pairs only).
 ///
 /// `topo` must be the topology of `mesh` with no issue (closed, oriented,
 /// manifold) and `mesh`'s coordinates finite.
@@ -217,6 +254,7 @@ pub fn face_pairs(
 ) -> (Vec<(EdgeId, EdgeOverlap)>, FacePairs) {
     let filter = Filter::for_points(&mesh.positions);
     let parallel = mesh.num_faces() >= par::MIN_LEN;
+    let stop = Stop::at(stop_at);
     let (at_vertices, (improper, patches)) = par::join(
         parallel,
         || {
@@ -227,7 +265,7 @@ pub fn face_pairs(
                     || Found::new(keep),
                     |mut found, v| {
                         let v = VertexId::from_idx(v);
-                        fan::fan_pairs(filter, mesh, v, topo.fan(v), &mut found);
+                        fan::fan_pairs(filter, mesh, v, topo.fan(v), &stop, &mut found);
                         found
                     },
                 )
@@ -246,10 +284,63 @@ pub fn face_pairs(
     let tree = bvh::Bvh::build(mesh, &mesh.faces, groups, parallel);
     let face = |f: FaceId| mesh.faces[f.idx()].map(|v| mesh.pos(v));
     let meet = |a, b| narrow::faces_meet(filter, face(a), face(b));
-    let apart = tree
-        .pairs(&meet, keep, stop_at)
-        .unwrap_or_else(|| Found::at_least(tree.first_pairs(&meet, keep), stop_at, keep));
-    (improper, at_vertices.merged(apart).finish())
+    let apart = tree.pairs(&meet, keep, &stop);
+    let found = if stop.reached() {
+        let first = first_pairs(keep, mesh, topo, &tree, |p| match p {
+            Partner::Apart(a, b) => meet(a, b),
+            Partner::AtVertex(p) => fan::meet(filter, mesh, topo, p),
+        });
+        Found::at_least(first, stop_at, keep)
+    } else {
+        at_vertices.merged(apart)
+    };
+    (improper, found.finish())
+}
+
+/// A pair of faces to test, the second after the first in the input.
+enum Partner<'p> {
+    /// Sharing no vertex.
+    Apart(FaceId, FaceId),
+    /// Sharing one vertex.
+    AtVertex(&'p fan::AtVertex),
+}
+
+/// The first `keep` pairs in ascending order that `meet` accepts, of the
+/// pairs the fans and `tree` test: face by face in ascending order, each
+/// against the later faces that share one vertex with it and those
+/// [`bvh::Bvh::later_partners`] finds, until `keep` are found. Sequential:
+/// for a search that stopped, where pairs abound.
+fn first_pairs(
+    keep: usize,
+    mesh: &Mesh,
+    topo: &Topology,
+    tree: &bvh::Bvh,
+    meet: impl Fn(Partner) -> bool,
+) -> Vec<(FaceId, FaceId)> {
+    let place = tree.places();
+    let mut first = Vec::new();
+    let (mut apart, mut at_vertex) = (Vec::new(), Vec::new());
+    for a in (0..mesh.num_faces()).map(FaceId::from_idx) {
+        apart.clear();
+        at_vertex.clear();
+        tree.later_partners(&place, a, &mut apart);
+        fan::later_partners(mesh, topo, a, &mut at_vertex);
+        let mut later: Vec<(FaceId, Partner)> = apart
+            .iter()
+            .map(|&b| (FaceId(b), Partner::Apart(a, FaceId(b))))
+            .chain(at_vertex.iter().map(|p| (p.face, Partner::AtVertex(p))))
+            .collect();
+        later.sort_unstable_by_key(|&(b, _)| b);
+        for (b, p) in later {
+            if first.len() >= keep {
+                return first;
+            }
+            if meet(p) {
+                first.push((a, b));
+            }
+        }
+    }
+    first
 }
 
 /// The pairs of [`face_pairs`] (its edge pass too, which the search

@@ -54,6 +54,7 @@
 
 use super::bvh::{Bvh, NO_GROUP};
 use super::narrow::{closed_segments_meet_2d, projection, Axes};
+use super::Stop;
 use crate::exact::orient_filter::Filter;
 use crate::ids::{FaceId, VertexId};
 use crate::mesh::topology::Topology;
@@ -145,7 +146,7 @@ pub(super) fn certified_patches(
         }
         false
     };
-    tree.pairs(&meets, 0, usize::MAX);
+    tree.pairs(&meets, 0, &Stop::never());
     // Certified patches, renumbered from 0.
     let mut renumber = vec![NO_GROUP; candidates as usize];
     let mut next = 0;
