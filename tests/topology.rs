@@ -48,3 +48,36 @@ proptest! {
         prop_assert_eq!(check_invariants(&mesh, &topo), Ok(()));
     }
 }
+
+#[test]
+fn a_vertex_of_thousands_of_faces_has_sound_tables() {
+    // A double cone of 3000 faces around each apex, the ring numbered
+    // out of order (a vertex's edges are found by their other end).
+    let n = 3000u32;
+    let ring = |i: u32| 2 + (i * 7 + 3) % n;
+    let mut positions = vec![[0.0, 0.0, 1.0], [0.0, 0.0, -1.0]];
+    positions.extend((0..n).map(|k| {
+        let i = (0..n).position(|i| ring(i) == 2 + k).unwrap() as f64;
+        let t = std::f64::consts::TAU * i / f64::from(n);
+        [t.cos(), t.sin(), 0.0]
+    }));
+    let mut faces = Vec::new();
+    for i in 0..n {
+        let (a, b) = (ring(i), ring((i + 1) % n));
+        faces.push([0, a, b]);
+        faces.push([1, b, a]);
+    }
+    let mesh = wmslice::Mesh::from_raw(positions, faces);
+    let (topo, issues) = Topology::build(&mesh);
+    assert!(issues.is_empty(), "{issues:?}");
+    check_invariants(&mesh, &topo).unwrap();
+    assert_eq!(topo.fan(VertexId(0)).len(), n as usize);
+    for (f, tri) in mesh.faces.iter().enumerate() {
+        for c in 0..3 {
+            let e = topo.edge(topo.face_edges[f][c]);
+            let mut ends = [tri[c], tri[(c + 1) % 3]];
+            ends.sort_unstable();
+            assert_eq!(e.v, ends, "face {f} corner {c}");
+        }
+    }
+}

@@ -102,7 +102,9 @@ fn join_blocks(
 }
 
 /// For each face, the edge from corner `i` to corner `i + 1`: found among
-/// the edges of its lower endpoint.
+/// the edges of its lower endpoint, which are sorted by their higher one
+/// (by bisection: a vertex of a fan of 50 000 faces made the linear
+/// search take 1.8 s).
 fn face_edges(mesh: &Mesh, edges: &[Edge], edge_start: &[u32]) -> Vec<[EdgeId; 3]> {
     mesh.faces
         .par_iter()
@@ -111,11 +113,13 @@ fn face_edges(mesh: &Mesh, edges: &[Edge], edge_start: &[u32]) -> Vec<[EdgeId; 3
             std::array::from_fn(|c| {
                 let (a, b) = (tri[c], tri[(c + 1) % 3]);
                 let (lo, hi) = if a < b { (a, b) } else { (b, a) };
-                let range = edge_start[lo.idx()] as usize..edge_start[lo.idx() + 1] as usize;
-                range
-                    .into_iter()
-                    .find(|&k| edges[k].v[1] == hi)
-                    .map_or(EdgeId(u32::MAX), EdgeId::from_idx)
+                let start = edge_start[lo.idx()] as usize;
+                let block = &edges[start..edge_start[lo.idx() + 1] as usize];
+                let k = block.partition_point(|e| e.v[1] < hi);
+                match block.get(k) {
+                    Some(e) if e.v[1] == hi => EdgeId::from_idx(start + k),
+                    _ => EdgeId(u32::MAX),
+                }
             })
         })
         .collect()
