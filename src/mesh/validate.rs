@@ -45,11 +45,11 @@ use std::fmt;
 /// At most this many defects are listed; the rest are counted.
 pub const MAX_LISTED_DEFECTS: usize = 1000;
 
-/// The search for self-intersections stops counting pairs of faces with
-/// no shared vertex when it has found this many ([`Tally::AtLeast`]); the
-/// listed ones are the same. A fuzzed 13 574-face PLY file (a soup of
-/// faces spanning the `f32` range) has 8.8 million such pairs, and took
-/// 29 s to count.
+/// The search for self-intersections stops counting pairs of faces that
+/// meet beyond a shared vertex or with none shared when it has found this
+/// many ([`Tally::AtLeast`]); the listed ones are the same. A fuzzed
+/// 13 574-face PLY file (a soup of faces spanning the `f32` range) has 8.8
+/// million such pairs, and took 29 s to count.
 pub const MAX_COUNTED_PAIRS: usize = 10 * MAX_LISTED_DEFECTS;
 
 /// Whether a defect blocks slicing.
