@@ -116,7 +116,6 @@ impl Stop {
 pub(crate) struct Found {
     pairs: Vec<(FaceId, FaceId)>,
     dropped: usize,
-    tally: Tally,
     pub(crate) keep: usize,
 }
 
@@ -125,18 +124,6 @@ impl Found {
         Found {
             pairs: Vec::new(),
             dropped: 0,
-            tally: Tally::Exact,
-            keep,
-        }
-    }
-
-    /// The `first` pairs in ascending order (at most `keep`) of at least
-    /// `at_least` pairs.
-    fn at_least(first: Vec<(FaceId, FaceId)>, at_least: usize, keep: usize) -> Found {
-        Found {
-            dropped: at_least.saturating_sub(first.len()),
-            pairs: first,
-            tally: Tally::AtLeast,
             keep,
         }
     }
@@ -160,9 +147,6 @@ impl Found {
         }
         self.pairs.append(&mut other.pairs);
         self.dropped += other.dropped;
-        if other.tally == Tally::AtLeast {
-            self.tally = Tally::AtLeast;
-        }
         if self.pairs.len() > self.keep {
             self.trim();
         }
@@ -191,7 +175,7 @@ impl Found {
         FacePairs {
             pairs: self.pairs,
             unlisted: self.dropped,
-            tally: self.tally,
+            tally: Tally::Exact,
         }
     }
 }
@@ -285,16 +269,19 @@ pub fn face_pairs(
     let face = |f: FaceId| mesh.faces[f.idx()].map(|v| mesh.pos(v));
     let meet = |a, b| narrow::faces_meet(filter, face(a), face(b));
     let apart = tree.pairs(&meet, keep, &stop);
-    let found = if stop.reached() {
-        let first = first_pairs(keep, mesh, topo, &tree, |p| match p {
-            Partner::Apart(a, b) => meet(a, b),
-            Partner::AtVertex(p) => fan::meet(filter, mesh, topo, p),
-        });
-        Found::at_least(first, stop_at, keep)
-    } else {
-        at_vertices.merged(apart)
+    if !stop.reached() {
+        return (improper, at_vertices.merged(apart).finish());
+    }
+    let first = first_pairs(keep, mesh, topo, &tree, |p| match p {
+        Partner::Apart(a, b) => meet(a, b),
+        Partner::AtVertex(p) => fan::meet(filter, mesh, topo, p),
+    });
+    let stopped = FacePairs {
+        unlisted: stop_at.saturating_sub(first.len()),
+        pairs: first,
+        tally: Tally::AtLeast,
     };
-    (improper, found.finish())
+    (improper, stopped)
 }
 
 /// A pair of faces to test, the second after the first in the input.
