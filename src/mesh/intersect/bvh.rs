@@ -608,7 +608,7 @@ impl<'m> Bvh<'m> {
     where
         T: Fn(FaceId, FaceId) -> bool + Sync,
     {
-        if self.tags[n] != NO_GROUP || search.stopped() {
+        if self.tags[n] != NO_GROUP || search.stop.reached() {
             return;
         }
         if h == 0 {
@@ -657,7 +657,7 @@ impl<'m> Bvh<'m> {
         let (bi, bj) = (&self.nodes[i], &self.nodes[j]);
         if !bi.meets(bj)
             || (self.tags[i] != NO_GROUP && self.tags[i] == self.tags[j])
-            || search.stopped()
+            || search.stop.reached()
         {
             return;
         }
@@ -772,13 +772,6 @@ impl<'m> Bvh<'m> {
 struct Search<'t, T> {
     test: &'t T,
     stop: &'t Stop,
-}
-
-impl<T> Search<'_, T> {
-    #[inline]
-    fn stopped(&self) -> bool {
-        self.stop.reached()
-    }
 }
 
 #[cfg(test)]
