@@ -11,7 +11,8 @@ to the highest vertex), given to manifold3d as their nearest doubles.
 
 - wmslice: wall time of `wmslice slice MESH --layer-height H --threads 1
   --quiet --format json -o OUT --verbose` (read, weld, validate, slice,
-  write the JSON, fsync); the number paths it reports are kept. With
+  write the JSON, fsync); the number paths it reports are kept, the JSON
+  is removed once timed (and compared, with --wmslice-base). With
   `--snap S`, wmslice snaps (real meshes' usual mode) and slices its
   own plan on the snapped mesh; manifold3d keeps the unsnapped plan.
   With `--weld`, wmslice merges an indexed file's vertices at one point
@@ -202,6 +203,12 @@ def main():
             same = open(os.path.join(args.out, f"real_wmslice_{name}.json"), "rb").read() == \
                 open(os.path.join(args.out, f"real_base_{name}.json"), "rb").read()
             row["identical"] = same
+        # Each output is removed once timed and compared (2 000 layers of
+        # a large part are hundreds of MB; 138 parts filled 14 GB).
+        for tool, _ in tools:
+            out = os.path.join(args.out, f"real_{tool}_{name}.json")
+            if os.path.exists(out):
+                os.remove(out)
         peer = []
         for _ in range(args.runs):
             r = subprocess.run([sys.executable, "-c", MANIFOLD, mesh, levels_file],
