@@ -443,16 +443,9 @@ fn validation_of_a_soup_with_more_pairs_than_it_counts_says_at_least() {
 #[test]
 fn check_json_says_when_its_count_is_a_lower_bound() {
     let m = soup();
-    let mut off = format!("OFF\n{} {} 0\n", m.positions.len(), m.faces.len());
-    for p in &m.positions {
-        off += &format!("{:?} {:?} {:?}\n", p[0], p[1], p[2]);
-    }
-    for t in &m.faces {
-        off += &format!("3 {} {} {}\n", t[0].0, t[1].0, t[2].0);
-    }
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("soup.off");
-    std::fs::write(&path, off).unwrap();
+    m.save(&path).unwrap();
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_wmslice"))
         .args(["check", "--json"])
         .arg(&path)
@@ -472,33 +465,26 @@ fn the_listing_does_not_depend_on_the_number_of_threads() {
     );
     assert!(m.num_faces() > 1 << 14);
     let (topo, _) = Topology::build(&m);
-    let on = |threads: usize| {
+    let on = |threads: usize, stop_at: usize| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| separate_face_pairs(&m, &topo, 100, usize::MAX))
+            .install(|| separate_face_pairs(&m, &topo, 100, stop_at))
     };
-    let one = on(1);
+    let one = on(1, usize::MAX);
     assert_eq!(one.pairs.len(), 100);
     for threads in [2, 3] {
-        assert_eq!(on(threads), one);
+        assert_eq!(on(threads, usize::MAX), one);
     }
     // Nor when the count stops, early or late.
     let all = one.pairs.len() + one.unlisted;
     for stop_at in [1000, all] {
-        let stopped = |threads: usize| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap()
-                .install(|| separate_face_pairs(&m, &topo, 100, stop_at))
-        };
-        let one_thread = stopped(1);
+        let one_thread = on(1, stop_at);
         assert_eq!(one_thread.pairs, one.pairs);
         assert_eq!(one_thread.tally, Tally::AtLeast);
         for threads in [2, 3] {
-            assert_eq!(stopped(threads), one_thread);
+            assert_eq!(on(threads, stop_at), one_thread);
         }
     }
 }

@@ -80,7 +80,7 @@ pub(super) fn fan_pairs(
 
 /// A face after another in the input that shares one vertex with it: the
 /// later face, the vertex, and the two faces' places in its fan.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+#[derive(Clone, Copy, Debug)]
 pub(super) struct AtVertex {
     pub(super) face: FaceId,
     v: VertexId,
