@@ -27,6 +27,14 @@
 //! sharing a vertex, which are tested elsewhere).
 //! Coordinates beyond the `f32` range give infinite bounds, which only
 //! makes volumes larger.
+//!
+//! A node also keeps the union of its triangles' diagonal extents and its
+//! *hub*, a vertex id all its triangles have, if any. Two nodes apart along
+//! a diagonal, or with one hub, hold no pair to test, and are not
+//! descended: the pairs tested are the same, but fans (the faces around a
+//! cone's apex, which all share it, and those of its base, apart from the
+//! cone's along the diagonals) no longer make the search quadratic, as
+//! their boxes alone, which all hold the axis, would.
 
 use super::{Found, Stop};
 use crate::exact::rational::decompose;
@@ -37,6 +45,9 @@ use rayon::prelude::*;
 
 /// The group of a triangle in no group.
 pub(super) const NO_GROUP: u32 = u32::MAX;
+
+/// The hub of a node whose triangles share no vertex id.
+const NO_HUB: u32 = u32::MAX;
 
 /// Faces per leaf (fewer than 32: a leaf's slots are the bits of a `u32`).
 const LEAF: usize = 8;
@@ -278,8 +289,9 @@ impl Leaf {
 /// (relative error at most `2^-53`, or an infinity beyond the range, far
 /// inside the margin of [`down32`] and [`up32`]), so the bounds hold the
 /// exact extent, and two faces whose extents along one diagonal are apart
-/// do not meet. Computed for the pairs whose boxes meet only (few beside
-/// the faces sharing a vertex, which are not tested here).
+/// do not meet. Kept per node (the union of its faces'), and computed for
+/// a pair of faces only when their boxes meet (few pairs beside the faces
+/// sharing a vertex, which are not tested here).
 #[derive(Clone, Copy, Debug)]
 struct Slabs {
     lo: [f32; 6],
@@ -287,27 +299,64 @@ struct Slabs {
 }
 
 impl Slabs {
+    const EMPTY: Slabs = Slabs {
+        lo: [f32::INFINITY; 6],
+        hi: [f32::NEG_INFINITY; 6],
+    };
+
+    /// The diagonal coordinates of `q`, each rounded once.
+    #[inline(always)]
+    fn diagonals(q: [f64; 3]) -> [f64; 6] {
+        [
+            q[0] + q[1],
+            q[0] - q[1],
+            q[0] + q[2],
+            q[0] - q[2],
+            q[1] + q[2],
+            q[1] - q[2],
+        ]
+    }
+
     fn of(p: [[f64; 3]; 3]) -> Slabs {
-        let d = |q: [f64; 3]| {
-            [
-                q[0] + q[1],
-                q[0] - q[1],
-                q[0] + q[2],
-                q[0] - q[2],
-                q[1] + q[2],
-                q[1] - q[2],
-            ]
-        };
-        let (d0, d1, d2) = (d(p[0]), d(p[1]), d(p[2]));
+        let [d0, d1, d2] = p.map(Slabs::diagonals);
         Slabs {
             lo: std::array::from_fn(|k| down32(min3(d0[k], d1[k], d2[k]))),
             hi: std::array::from_fn(|k| up32(max3(d0[k], d1[k], d2[k]))),
         }
     }
 
+    /// The extents of the triangles with corners `ps` (at least one
+    /// point): the lowest and highest rounded sums, widened once, which
+    /// hold the exact extents as [`Slabs::of`] does (and are the union of
+    /// the triangles' [`Slabs::of`] but where a widening near `2^-140`
+    /// rounds differently, which would only skip pairs that do not meet).
+    fn around(ps: impl Iterator<Item = [f64; 3]>) -> Slabs {
+        let (lo, hi) = ps.map(Slabs::diagonals).fold(
+            ([f64::INFINITY; 6], [f64::NEG_INFINITY; 6]),
+            |(lo, hi), d| {
+                (
+                    std::array::from_fn(|k| if d[k] < lo[k] { d[k] } else { lo[k] }),
+                    std::array::from_fn(|k| if d[k] > hi[k] { d[k] } else { hi[k] }),
+                )
+            },
+        );
+        Slabs {
+            lo: lo.map(down32),
+            hi: hi.map(up32),
+        }
+    }
+
     #[inline]
     fn meets(&self, o: &Slabs) -> bool {
         (0..6).all(|k| (self.lo[k] <= o.hi[k]) & (o.lo[k] <= self.hi[k]))
+    }
+
+    #[inline]
+    fn union(&self, o: &Slabs) -> Slabs {
+        Slabs {
+            lo: std::array::from_fn(|k| self.lo[k].min(o.lo[k])),
+            hi: std::array::from_fn(|k| self.hi[k].max(o.hi[k])),
+        }
     }
 }
 
@@ -323,8 +372,16 @@ pub(super) struct Bvh<'m> {
     /// How many triangles there are.
     len: usize,
     nodes: Vec<Bounds>,
+    /// Per node, the union of its triangles' diagonal extents: two nodes
+    /// whose extents are apart along one diagonal hold no pair that
+    /// [`Slabs::meets`] would pass, so they are not descended.
+    slabs: Vec<Slabs>,
     /// Per node, the group all its triangles are in, or [`NO_GROUP`].
     tags: Vec<u32>,
+    /// Per node, a vertex id all its triangles have (the apex of a fan),
+    /// or [`NO_HUB`]: no two of them, nor two of two nodes with one hub,
+    /// are a pair to test.
+    hubs: Vec<u32>,
     height: u32,
     parallel: bool,
 }
@@ -471,15 +528,20 @@ impl<'m> Bvh<'m> {
         drop(codes);
         let group = |t: usize| groups.map_or(NO_GROUP, |g| g[t]);
         let n_leaves = order.len().div_ceil(LEAF).max(1);
+        let height = n_leaves.next_power_of_two().trailing_zeros();
+        let first = 1usize << height;
         let mut leaves = vec![Leaf::EMPTY; n_leaves];
+        let mut slabs = vec![Slabs::EMPTY; 2 * first];
         leaves
             .par_iter_mut()
+            .zip(&mut slabs[first..first + n_leaves])
             .with_min_len(min_len / LEAF)
             .zip(order.par_chunks(LEAF))
-            .for_each(|(leaf, ts)| {
+            .for_each(|((leaf, d), ts)| {
                 for (s, &t) in ts.iter().enumerate() {
                     let b = &boxes[t as usize];
-                    for (k, v) in tris[t as usize].iter().enumerate() {
+                    let tri = tris[t as usize];
+                    for (k, v) in tri.iter().enumerate() {
                         leaf.lo[k][s] = b.lo[k];
                         leaf.hi[k][s] = b.hi[k];
                         leaf.v[k][s] = v.0;
@@ -487,27 +549,40 @@ impl<'m> Bvh<'m> {
                     leaf.group[s] = group(t as usize);
                     leaf.face[s] = t;
                 }
+                *d = Slabs::around(
+                    ts.iter()
+                        .flat_map(|&t| frame.place_all(tris[t as usize].map(|v| mesh.pos(v)))),
+                );
             });
         drop(boxes);
-        let height = n_leaves.next_power_of_two().trailing_zeros();
-        let first = 1usize << height;
         let mut nodes = vec![Bounds::EMPTY; 2 * first];
         let mut tags = vec![NO_GROUP; 2 * first];
+        let mut hubs = vec![NO_HUB; 2 * first];
         nodes[first..first + n_leaves]
             .par_iter_mut()
             .zip(&mut tags[first..first + n_leaves])
+            .zip(&mut hubs[first..first + n_leaves])
             .with_min_len(min_len / LEAF)
             .zip(leaves.par_iter().zip(order.par_chunks(LEAF)))
-            .for_each(|((n, tag), (leaf, ts))| {
+            .for_each(|(((n, tag), hub), (leaf, ts))| {
                 *n = (0..ts.len()).fold(Bounds::EMPTY, |b, s| b.union(&leaf.bounds(s)));
                 if leaf.group[..ts.len()].iter().all(|&g| g == leaf.group[0]) {
                     *tag = leaf.group[0];
                 }
+                let has = |s: usize, v: u32| (0..3).any(|k| leaf.v[k][s] == v);
+                *hub = (0..3)
+                    .map(|k| leaf.v[k][0])
+                    .find(|&v| (1..ts.len()).all(|s| has(s, v)))
+                    .unwrap_or(NO_HUB);
             });
         for n in (1..first).rev() {
             nodes[n] = nodes[2 * n].union(&nodes[2 * n + 1]);
+            slabs[n] = slabs[2 * n].union(&slabs[2 * n + 1]);
             if tags[2 * n] == tags[2 * n + 1] {
                 tags[n] = tags[2 * n];
+            }
+            if hubs[2 * n] == hubs[2 * n + 1] {
+                hubs[n] = hubs[2 * n];
             }
         }
         Bvh {
@@ -516,7 +591,9 @@ impl<'m> Bvh<'m> {
             leaves,
             len: order.len(),
             nodes,
+            slabs,
             tags,
+            hubs,
             height,
             parallel,
         }
@@ -561,7 +638,12 @@ impl<'m> Bvh<'m> {
     /// node `n` of height `h`.
     fn later_in_node(&self, n: usize, h: u32, leaf: &Leaf, s: usize, out: &mut Vec<u32>) {
         let (b, group) = (leaf.bounds(s), leaf.group[s]);
-        if !self.nodes[n].meets(&b) || (group != NO_GROUP && self.tags[n] == group) {
+        let own = self.slabs(leaf, s);
+        if !self.nodes[n].meets(&b)
+            || !self.slabs[n].meets(&own)
+            || (group != NO_GROUP && self.tags[n] == group)
+            || (0..3).any(|k| leaf.v[k][s] == self.hubs[n])
+        {
             return;
         }
         if h > 0 {
@@ -575,7 +657,6 @@ impl<'m> Bvh<'m> {
         };
         let v = [0, 1, 2].map(|k| leaf.v[k][s]);
         let mut mask = other.candidates(&b, v, group) & Self::slots(self.filled(i));
-        let own = self.slabs(leaf, s);
         while mask != 0 {
             let t = mask.trailing_zeros() as usize;
             mask &= mask - 1;
@@ -608,7 +689,7 @@ impl<'m> Bvh<'m> {
     where
         T: Fn(FaceId, FaceId) -> bool + Sync,
     {
-        if self.tags[n] != NO_GROUP || search.stop.reached() {
+        if self.tags[n] != NO_GROUP || self.hubs[n] != NO_HUB || search.stop.reached() {
             return;
         }
         if h == 0 {
@@ -657,6 +738,8 @@ impl<'m> Bvh<'m> {
         let (bi, bj) = (&self.nodes[i], &self.nodes[j]);
         if !bi.meets(bj)
             || (self.tags[i] != NO_GROUP && self.tags[i] == self.tags[j])
+            || (self.hubs[i] != NO_HUB && self.hubs[i] == self.hubs[j])
+            || !self.slabs[i].meets(&self.slabs[j])
             || search.stop.reached()
         {
             return;
@@ -699,7 +782,7 @@ impl<'m> Bvh<'m> {
     /// `j` (of box `bj`): the faces of each that meet the other's box
     /// (two vector tests; most leaf pairs end here), then each such face
     /// of `i` against those of `j` at once.
-    #[inline]
+    #[inline(always)]
     fn leaf_pair<T>(
         &self,
         i: usize,
@@ -710,6 +793,8 @@ impl<'m> Bvh<'m> {
     ) where
         T: Fn(FaceId, FaceId) -> bool,
     {
+        #[cfg(test)]
+        tests::LEAF_PAIRS.with(|c| c.set(c.get() + 1));
         let (Some(li), Some(lj)) = (self.leaves.get(i), self.leaves.get(j)) else {
             return;
         };
@@ -778,11 +863,23 @@ struct Search<'t, T> {
 mod tests {
     use super::*;
     use crate::exact::scale::times_pow2;
+    use std::cell::Cell;
     use std::sync::Mutex;
+
+    thread_local! {
+        /// Pairs of leaves compared on this thread (a search with
+        /// `parallel` off runs on the calling thread).
+        pub(super) static LEAF_PAIRS: Cell<usize> = const { Cell::new(0) };
+    }
 
     /// The pairs the tree hands to its test, sorted.
     fn candidates(mesh: &Mesh) -> Vec<(FaceId, FaceId)> {
-        let tree = Bvh::build(mesh, &mesh.faces, None, false);
+        grouped_candidates(mesh, None)
+    }
+
+    /// [`candidates`] with the faces in groups.
+    fn grouped_candidates(mesh: &Mesh, groups: Option<&[u32]>) -> Vec<(FaceId, FaceId)> {
+        let tree = Bvh::build(mesh, &mesh.faces, groups, false);
         let seen = Mutex::new(Vec::new());
         tree.pairs(
             &|a: FaceId, b: FaceId| {
@@ -795,6 +892,94 @@ mod tests {
         let mut seen = seen.into_inner().unwrap();
         seen.sort_unstable();
         seen
+    }
+
+    /// Every pair of faces with no shared vertex id, not in one group,
+    /// whose boxes and diagonal extents meet, each face's volume computed
+    /// on its own (`mesh` in the frame that neither shifts nor scales).
+    fn all_meeting(mesh: &Mesh, groups: Option<&[u32]>) -> Vec<(FaceId, FaceId)> {
+        let volume = |f: &[VertexId; 3]| {
+            let p = f.map(|v| mesh.pos(v));
+            let b = Bounds {
+                lo: std::array::from_fn(|k| down32(min3(p[0][k], p[1][k], p[2][k]))),
+                hi: std::array::from_fn(|k| up32(max3(p[0][k], p[1][k], p[2][k]))),
+            };
+            (b, Slabs::of(p))
+        };
+        let volumes: Vec<_> = mesh.faces.iter().map(volume).collect();
+        let group = |t: usize| groups.map_or(NO_GROUP, |g| g[t]);
+        let mut out = Vec::new();
+        for a in 0..mesh.faces.len() {
+            for b in a + 1..mesh.faces.len() {
+                let shares = mesh.faces[a].iter().any(|v| mesh.faces[b].contains(v));
+                let grouped = group(a) != NO_GROUP && group(a) == group(b);
+                let ((ba, sa), (bb, sb)) = (&volumes[a], &volumes[b]);
+                if !shares && !grouped && ba.meets(bb) && sa.meets(sb) {
+                    out.push((FaceId::from_idx(a), FaceId::from_idx(b)));
+                }
+            }
+        }
+        out
+    }
+
+    /// A cone over a regular `n`-gon in the plane `z = 0`, its base a fan
+    /// around the centre: `n` faces around the apex, then `n` around the
+    /// centre. Its coordinates are cosines and sines (no grid).
+    fn capped_cone(n: u32) -> Mesh {
+        let mut mesh = Mesh::default();
+        for i in 0..n {
+            let a = f64::from(i) * std::f64::consts::TAU / f64::from(n);
+            mesh.positions.push([a.cos(), a.sin(), 0.0]);
+        }
+        mesh.positions.push([0.0, 0.0, 1.0]);
+        mesh.positions.push([0.0, 0.0, 0.0]);
+        let ring = |i: u32| VertexId(i % n);
+        mesh.faces
+            .extend((0..n).map(|i| [ring(i), ring(i + 1), VertexId(n)]));
+        mesh.faces
+            .extend((0..n).map(|i| [ring(i + 1), ring(i), VertexId(n + 1)]));
+        mesh
+    }
+
+    /// The tree hands its test exactly the pairs whose volumes meet (no
+    /// more: its nodes' extents and hubs only skip nodes that hold none),
+    /// on a soup, and on a capped cone with its base as one group.
+    #[test]
+    fn the_pairs_tested_are_those_whose_volumes_meet() {
+        let soup = soup_within(16);
+        let reference = all_meeting(&soup, None);
+        assert!(reference.len() > 100, "{}", reference.len());
+        assert_eq!(candidates(&soup), reference);
+        let cone = capped_cone(300);
+        let groups: Vec<u32> = (0..600)
+            .map(|t| if t < 300 { NO_GROUP } else { 0 })
+            .collect();
+        for groups in [None, Some(&groups[..])] {
+            let reference = all_meeting(&cone, groups);
+            assert!(!reference.is_empty());
+            assert_eq!(grouped_candidates(&cone, groups), reference);
+        }
+    }
+
+    /// A fan's faces all share its apex, and the faces of a cone and of
+    /// its base (a fan in another plane) are apart along the diagonals
+    /// but near their ring: comparing the nodes' hubs and extents, the
+    /// search of a capped cone compares a number of leaf pairs that grows
+    /// with the leaves, not with their square (boxes alone: every pair of
+    /// the cone's leaves, about `250^2 / 2` here).
+    #[test]
+    fn a_capped_cone_compares_few_pairs_of_leaves() {
+        let n = 1000;
+        let cone = capped_cone(n);
+        let groups: Vec<u32> = (0..2 * n)
+            .map(|t| if t < n { NO_GROUP } else { 0 })
+            .collect();
+        let leaves = (2 * n as usize).div_ceil(LEAF);
+        LEAF_PAIRS.with(|c| c.set(0));
+        let pairs = grouped_candidates(&cone, Some(&groups));
+        let compared = LEAF_PAIRS.with(Cell::get);
+        assert!(compared < 8 * leaves, "{compared} pairs of {leaves} leaves");
+        assert_eq!(pairs, all_meeting(&cone, Some(&groups)));
     }
 
     /// 300 small triangles (sides up to 4/64) at random places on the
