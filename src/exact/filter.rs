@@ -297,6 +297,13 @@ impl<'a> FilteredPoint<'a> {
         self.is_double.then_some([self.x, self.y])
     }
 
+    /// The exact point as two doubles in stored units (not scaled by a
+    /// frame), when it is exactly them.
+    #[inline]
+    pub fn as_stored_double(&self) -> Option<[f64; 2]> {
+        self.as_double().filter(|_| self.frame.is_identity())
+    }
+
     /// Doubles enclosing the exact point: `([x_lo, y_lo], [x_hi, y_hi])`.
     pub fn bounds(&self) -> ([f64; 2], [f64; 2]) {
         let (x, y) = (self.ix, self.iy);

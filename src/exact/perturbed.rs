@@ -16,12 +16,17 @@
 //!
 //! The constant term is decided by the filtered predicates of
 //! [`FilteredPoint`]; the other terms, needed only where the limits tie,
-//! in exact rationals.
+//! in exact rationals, but where the tied points move along edges from
+//! one vertex on the plane (a loop collapsing to an isolated extremum, or
+//! passing through a saddle): there they are signs of `orient3d` and
+//! `orient2d` of the mesh's own doubles (exact, adaptive), as
+//! `EpsPoint::orient_at_one_vertex` derives.
 
 use super::area::signed_area;
 use super::filter::{cmp_x, cmp_y, orient2d_filtered, signed_area_filtered, FilteredPoint};
 use super::planar::Planar;
 use super::point::{LoopPoint, Point2};
+use super::predicates::{orient2d_axes, orient3d};
 use super::rational::{rat_from_f64, Rat};
 use super::Sign;
 use num_traits::Zero;
@@ -50,6 +55,17 @@ pub struct Motion {
 }
 
 impl Motion {
+    /// The end of this edge other than `v`, if `v` is one of its ends.
+    fn other_end(&self, v: [f64; 3]) -> Option<[f64; 3]> {
+        if self.a == v {
+            Some(self.b)
+        } else if self.b == v {
+            Some(self.a)
+        } else {
+            None
+        }
+    }
+
     /// `d = s (b - a) / (h(b) - h(a))` in x and y, exactly.
     fn velocity(&self) -> Point2 {
         let r = |k: usize| rat_from_f64(self.b[k]) - rat_from_f64(self.a[k]);
@@ -108,13 +124,129 @@ fn cross(ax: &Rat, ay: &Rat, bx: &Rat, by: &Rat) -> Rat {
     ax * by - ay * bx
 }
 
+/// Points whose edges all have an end at one point `v` (the vertex on the
+/// plane that a collapsed loop shrinks to, or that a run of a loop passes
+/// through): `v`, and each edge's other end `w`.
+///
+/// With `E = w - v` and `delta = h(w) - h(v)` (never zero), the velocity
+/// of a point is `s E_xy / delta` whichever end the motion names first, so
+/// products of velocities are those of the rows `(E_x, E_y, delta)` over
+/// the product of the `delta`s: signs of determinants of `f64` points,
+/// which [`orient3d`] and [`orient2d_axes`] decide exactly (no rational).
+fn at_one_vertex<const N: usize>(ms: [&Motion; N]) -> Option<([f64; 3], [[f64; 3]; N])> {
+    let first = ms[0];
+    [first.a, first.b].into_iter().find_map(|v| {
+        let mut ends = [[0.0; 3]; N];
+        for (end, m) in ends.iter_mut().zip(ms) {
+            *end = m.other_end(v)?;
+        }
+        Some((v, ends))
+    })
+}
+
+/// The sign of `h(w) - h(v)`, never zero for an edge a point moves along.
+fn rise(v: [f64; 3], w: [f64; 3]) -> Sign {
+    Sign::of_cmp(w[2].partial_cmp(&v[2]))
+}
+
+/// `d_a - d_b` in coordinate `k` (0: x, 1: y), for points moving along
+/// edges from one point `v` to `wa` and `wb`: the sign of
+/// `s (E_a,k delta_b - E_b,k delta_a) / (delta_a delta_b)`, the first
+/// factor `orient2d` of `(v, wa, wb)` on axes `k` and z.
+fn cmp_velocity_at_vertex(
+    v: [f64; 3],
+    [wa, wb]: [[f64; 3]; 2],
+    k: usize,
+    towards: Towards,
+) -> Ordering {
+    let s = orient2d_axes(v, wa, wb, k, 2) * rise(v, wa) * rise(v, wb);
+    let s = match towards {
+        Towards::Above => s,
+        Towards::Below => s.flip(),
+    };
+    s.ordering()
+}
+
+impl EpsPoint<'_> {
+    /// `d_self - d_other` in coordinate `k` (0: x, 1: y), exactly.
+    fn cmp_velocity(&self, other: &Self, k: usize) -> Ordering {
+        if self.motion.towards == other.motion.towards {
+            if let Some((v, ends)) = at_one_vertex([&self.motion, &other.motion]) {
+                return cmp_velocity_at_vertex(v, ends, k, self.motion.towards);
+            }
+        }
+        self.cmp_velocity_in_rationals(other, k)
+    }
+
+    /// [`EpsPoint::cmp_velocity`] in exact rationals.
+    fn cmp_velocity_in_rationals(&self, other: &Self, k: usize) -> Ordering {
+        let (a, b) = (self.velocity(), other.velocity());
+        if k == 0 {
+            a.x.cmp(&b.x)
+        } else {
+            a.y.cmp(&b.y)
+        }
+    }
+
+    /// [`Planar::orient`] where `k0 = 0` because two or three of the
+    /// limits are one point, without rationals where the points with one
+    /// limit move along edges from one point `v` (as around a vertex on
+    /// the plane) and the answer is a determinant of doubles; else `None`.
+    ///
+    /// Three with one limit: `B = C = 0`, so `k1 = 0`, and `k2 = det(E_a,
+    /// E_b, E_c) / (delta_a delta_b delta_c)` (the determinant of the rows
+    /// `(E_x, E_y, delta)` expanded along its last column is `sum delta_a
+    /// (E_b x E_c)`; `s^2 = 1`). Two (turned to come first: the
+    /// orientation and each of its coefficients are unchanged by a cyclic
+    /// turn) whose limit is `v` itself, the third's limit `r` a double:
+    /// `B = 0`, so `k1 = dB x C = s det(E_p, E_q, (C, 0)) / (delta_p
+    /// delta_q)` with `C = r - v`, which is `orient3d(v, w_p, w_q, (r,
+    /// h(v)))`; when it is zero, `k2` is left to the rationals.
+    fn orient_at_one_vertex(a: &Self, b: &Self, c: &Self) -> Option<Sign> {
+        let (ab, bc) = (a.same_limit(b), b.same_limit(c));
+        if ab && bc {
+            let (v, [wa, wb, wc]) = at_one_vertex([&a.motion, &b.motion, &c.motion])?;
+            return Some(orient3d(v, wa, wb, wc) * rise(v, wa) * rise(v, wb) * rise(v, wc));
+        }
+        let (p, q, r) = if ab {
+            (a, b, c)
+        } else if bc {
+            (b, c, a)
+        } else if c.same_limit(a) {
+            (c, a, b)
+        } else {
+            return None;
+        };
+        if p.motion.towards != q.motion.towards {
+            return None;
+        }
+        let (v, [wp, wq]) = at_one_vertex([&p.motion, &q.motion])?;
+        if p.base.as_stored_double()? != [v[0], v[1]] {
+            return None;
+        }
+        let [x, y] = r.base.as_stored_double()?;
+        let k1 = orient3d(v, wp, wq, [x, y, v[2]]) * rise(v, wp) * rise(v, wq);
+        let k1 = match p.motion.towards {
+            Towards::Above => k1,
+            Towards::Below => k1.flip(),
+        };
+        (k1 != Sign::Zero).then_some(k1)
+    }
+
+    /// Whether the limits of `self` and `other` are one point.
+    fn same_limit(&self, other: &Self) -> bool {
+        std::ptr::eq(self.base.exact(), other.base.exact())
+            || (cmp_x(&self.base, &other.base).is_eq() && cmp_y(&self.base, &other.base).is_eq())
+    }
+}
+
 impl Planar for EpsPoint<'_> {
     fn cmp_y(&self, other: &Self) -> Ordering {
-        cmp_y(&self.base, &other.base).then_with(|| self.velocity().y.cmp(&other.velocity().y))
+        cmp_y(&self.base, &other.base).then_with(|| self.cmp_velocity(other, 1))
     }
 
     fn cmp_x(&self, other: &Self) -> Ordering {
-        cmp_x(&self.base, &other.base).then_with(|| self.velocity().x.cmp(&other.velocity().x))
+        cmp_x(&self.base, &other.base).then_with(|| self.cmp_velocity(other, 0))
     }
 
     /// `(b - a) x (c - a)` is `k0 + k1 epsilon + k2 epsilon^2` with
@@ -125,6 +257,23 @@ impl Planar for EpsPoint<'_> {
         if k0 != Sign::Zero {
             return k0;
         }
+        EpsPoint::orient_at_one_vertex(a, b, c)
+            .unwrap_or_else(|| EpsPoint::orient_in_rationals(a, b, c))
+    }
+
+    fn bounds(&self) -> ([f64; 2], [f64; 2]) {
+        self.base.bounds()
+    }
+
+    fn rounded(&self) -> [f64; 2] {
+        self.base.rounded()
+    }
+}
+
+impl EpsPoint<'_> {
+    /// The sign of `k1`, else of `k2`, of [`Planar::orient`], in exact
+    /// rationals (the limits' and the velocities'), for `k0 = 0`.
+    fn orient_in_rationals(a: &Self, b: &Self, c: &Self) -> Sign {
         let (pa, pb, pc) = (
             a.base.exact().exact(),
             b.base.exact().exact(),
@@ -140,14 +289,6 @@ impl Planar for EpsPoint<'_> {
             return Sign::of_rat(&k1);
         }
         Sign::of_rat(&cross(&dbx, &dby, &dcx, &dcy))
-    }
-
-    fn bounds(&self) -> ([f64; 2], [f64; 2]) {
-        self.base.bounds()
-    }
-
-    fn rounded(&self) -> [f64; 2] {
-        self.base.rounded()
     }
 }
 
@@ -182,5 +323,113 @@ pub fn orientation(points: &[EpsPoint<'_>], limit: &[LoopPoint]) -> Sign {
         Sign::of_rat(&a2)
     } else {
         Sign::of_rat(&a1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// A double of either sign with a mantissa of `m` and exponent `e`
+    /// (nonzero: a rise).
+    fn double(m: i64, e: i32) -> f64 {
+        crate::exact::scale::times_pow2(m as f64, e)
+    }
+
+    /// A point: three doubles drawn across the range (whose limits are
+    /// rarely doubles in one frame), or on a small grid (where they are).
+    fn point() -> impl Strategy<Value = [f64; 3]> {
+        prop_oneof![
+            prop::array::uniform3((-(1i64 << 52)..(1i64 << 52), -60i32..60)),
+            prop::array::uniform3((-(1i64 << 20)..(1i64 << 20), -3i32..3)),
+        ]
+        .prop_map(|c| c.map(|(m, e)| double(m, e)))
+    }
+
+    /// A height other than `z`.
+    fn away(z: f64) -> f64 {
+        if z == 0.0 {
+            1.0
+        } else {
+            2.0 * z
+        }
+    }
+
+    /// Moving points around `v` (the limit of each, a vertex on the plane)
+    /// along edges to `ws`, and one more moving from elsewhere.
+    fn around<'a>(
+        v: &'a LoopPoint,
+        vp: [f64; 3],
+        ws: &[[f64; 3]],
+        towards: Towards,
+    ) -> Vec<EpsPoint<'a>> {
+        ws.iter()
+            .enumerate()
+            .map(|(i, &w)| {
+                // Either end may come first.
+                let (a, b) = if i % 2 == 0 { (vp, w) } else { (w, vp) };
+                EpsPoint::new(v, Motion { a, b, towards })
+            })
+            .collect()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+
+        /// At one vertex on the plane, orientations and comparisons of
+        /// points moving away from it (three, two and a third with another
+        /// limit, in every cyclic turn) equal those computed in rationals,
+        /// on coordinates across the range, with ties (`w` sharing a
+        /// coordinate or a rise with `v`) made often.
+        #[test]
+        fn shortcuts_at_a_vertex_equal_the_rationals(
+            v in point(),
+            ws in prop::collection::vec(point(), 3),
+            r in point(),
+            ties in prop::collection::vec(0usize..6, 3),
+            above in any::<bool>(),
+        ) {
+            let towards = if above { Towards::Above } else { Towards::Below };
+            let mut ws = ws;
+            for (w, &t) in ws.iter_mut().zip(&ties) {
+                // Share a coordinate with v (x or y: ties in the
+                // comparisons), or a direction with another edge.
+                match t {
+                    0 => w[0] = v[0],
+                    1 => w[1] = v[1],
+                    _ => {}
+                }
+                if w[2] == v[2] {
+                    w[2] = away(v[2]);
+                }
+            }
+            if ties[0] == 5 {
+                ws[1] = ws[0];
+            }
+            let at_v = LoopPoint::of_vertex(v);
+            let elsewhere = LoopPoint::of_vertex([r[0], r[1], v[2]]);
+            let ps = around(&at_v, v, &ws, towards);
+            let q = EpsPoint::new(&elsewhere, Motion { a: r, b: [r[0], r[1], away(r[2])], towards });
+            let (a, b, c) = (&ps[0], &ps[1], &ps[2]);
+            let exact = |a: &EpsPoint<'_>, b: &EpsPoint<'_>, c: &EpsPoint<'_>| {
+                let k0 = orient2d_filtered(&a.base, &b.base, &c.base);
+                if k0 != Sign::Zero { k0 } else { EpsPoint::orient_in_rationals(a, b, c) }
+            };
+            for (x, y, z) in [(a, b, c), (b, c, a), (c, a, b), (a, b, &q), (b, &q, a), (&q, a, b)] {
+                prop_assert_eq!(EpsPoint::orient(x, y, z), exact(x, y, z));
+            }
+            // Two with one limit that is not their edges' shared end (not
+            // in a valid mesh): no shortcut may take `v` for the limit.
+            let off = LoopPoint::of_vertex([r[1], r[0], v[2]]);
+            let offs = around(&off, v, &ws[..2], towards);
+            for (x, y, z) in [(&offs[0], &offs[1], &q), (&q, &offs[0], &offs[1])] {
+                prop_assert_eq!(EpsPoint::orient(x, y, z), exact(x, y, z));
+            }
+            for k in 0..2 {
+                prop_assert_eq!(a.cmp_velocity(b, k), a.cmp_velocity_in_rationals(b, k));
+                prop_assert_eq!(b.cmp_velocity(c, k), b.cmp_velocity_in_rationals(c, k));
+            }
+        }
     }
 }

@@ -125,6 +125,30 @@ impl Sign {
             Sign::Positive => Sign::Negative,
         }
     }
+
+    /// The ordering of a quantity of this sign against zero.
+    #[inline]
+    pub fn ordering(self) -> Ordering {
+        match self {
+            Sign::Negative => Ordering::Less,
+            Sign::Zero => Ordering::Equal,
+            Sign::Positive => Ordering::Greater,
+        }
+    }
+}
+
+/// The sign of a product.
+impl std::ops::Mul for Sign {
+    type Output = Sign;
+
+    #[inline]
+    fn mul(self, other: Sign) -> Sign {
+        match other {
+            Sign::Positive => self,
+            Sign::Zero => Sign::Zero,
+            Sign::Negative => self.flip(),
+        }
+    }
 }
 
 /// The exponent window in which `robust` is exact for one predicate (see
