@@ -298,6 +298,8 @@ impl EpsPoint<'_> {
 /// (`limit`: filtered, exact when the filter cannot tell); `a1` and `a2`
 /// are computed only when `a0 = 0`:
 /// `2 a1 = sum p_i x d_{i+1} + d_i x p_{i+1}`, `2 a2 = sum d_i x d_{i+1}`.
+/// Where every `p_i` is one point `p` (a loop collapsing to a point),
+/// `2 a1 = p x D + D x p = 0` with `D = sum d_i`, and only `a2` is summed.
 pub fn orientation(points: &[EpsPoint<'_>], limit: &[LoopPoint]) -> Sign {
     let bases: Vec<FilteredPoint<'_>> = points.iter().map(|p| p.base.clone()).collect();
     if let Some(s) = signed_area_filtered(&bases)
@@ -311,12 +313,15 @@ pub fn orientation(points: &[EpsPoint<'_>], limit: &[LoopPoint]) -> Sign {
         return Sign::of_rat(&a0);
     }
     let n = points.len();
+    let one_limit = points.iter().all(|p| p.same_limit(&points[0]));
     let (mut a1, mut a2) = (Rat::zero(), Rat::zero());
     for i in 0..n {
         let (p, q) = (&points[i], &points[(i + 1) % n]);
-        let (p0, q0) = (p.base.exact().exact(), q.base.exact().exact());
         let (dp, dq) = (p.velocity(), q.velocity());
-        a1 += cross(&p0.x, &p0.y, &dq.x, &dq.y) + cross(&dp.x, &dp.y, &q0.x, &q0.y);
+        if !one_limit {
+            let (p0, q0) = (p.base.exact().exact(), q.base.exact().exact());
+            a1 += cross(&p0.x, &p0.y, &dq.x, &dq.y) + cross(&dp.x, &dp.y, &q0.x, &q0.y);
+        }
         a2 += cross(&dp.x, &dp.y, &dq.x, &dq.y);
     }
     if a1.is_zero() {
@@ -374,6 +379,20 @@ mod tests {
             .collect()
     }
 
+    /// `2 a1` and `2 a2` of [`orientation`], every term summed.
+    fn area_terms(points: &[EpsPoint<'_>]) -> (Rat, Rat) {
+        let n = points.len();
+        let (mut a1, mut a2) = (Rat::zero(), Rat::zero());
+        for i in 0..n {
+            let (p, q) = (&points[i], &points[(i + 1) % n]);
+            let (p0, q0) = (p.base.exact().exact(), q.base.exact().exact());
+            let (dp, dq) = (p.velocity(), q.velocity());
+            a1 += cross(&p0.x, &p0.y, &dq.x, &dq.y) + cross(&dp.x, &dp.y, &q0.x, &q0.y);
+            a2 += cross(&dp.x, &dp.y, &dq.x, &dq.y);
+        }
+        (a1, a2)
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(2000))]
 
@@ -426,6 +445,11 @@ mod tests {
             for (x, y, z) in [(&offs[0], &offs[1], &q), (&q, &offs[0], &offs[1])] {
                 prop_assert_eq!(EpsPoint::orient(x, y, z), exact(x, y, z));
             }
+            // The loop of the three collapsing to `v`: `a1` is zero, and
+            // the orientation is the sign of `a2`.
+            let (a1, a2) = area_terms(&ps);
+            prop_assert!(a1.is_zero());
+            prop_assert_eq!(orientation(&ps, std::slice::from_ref(&at_v)), Sign::of_rat(&a2));
             for k in 0..2 {
                 prop_assert_eq!(a.cmp_velocity(b, k), a.cmp_velocity_in_rationals(b, k));
                 prop_assert_eq!(b.cmp_velocity(c, k), b.cmp_velocity_in_rationals(c, k));
