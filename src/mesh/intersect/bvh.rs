@@ -372,9 +372,9 @@ pub(super) struct Bvh<'m> {
     /// How many triangles there are.
     len: usize,
     nodes: Vec<Bounds>,
-    /// Per node, the union of its triangles' diagonal extents: two nodes
-    /// whose extents are apart along one diagonal hold no pair that
-    /// [`Slabs::meets`] would pass, so they are not descended.
+    /// Per node, its triangles' diagonal extents ([`Slabs::around`]): two
+    /// nodes whose extents are apart along one diagonal hold no pair of
+    /// faces that meet, so they are not descended.
     slabs: Vec<Slabs>,
     /// Per node, the group all its triangles are in, or [`NO_GROUP`].
     tags: Vec<u32>,
@@ -540,8 +540,7 @@ impl<'m> Bvh<'m> {
             .for_each(|((leaf, d), ts)| {
                 for (s, &t) in ts.iter().enumerate() {
                     let b = &boxes[t as usize];
-                    let tri = tris[t as usize];
-                    for (k, v) in tri.iter().enumerate() {
+                    for (k, v) in tris[t as usize].iter().enumerate() {
                         leaf.lo[k][s] = b.lo[k];
                         leaf.hi[k][s] = b.hi[k];
                         leaf.v[k][s] = v.0;
