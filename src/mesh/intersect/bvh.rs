@@ -630,36 +630,42 @@ impl<'m> Bvh<'m> {
     /// the tree), in no particular order; `place` is [`Bvh::places`].
     pub(super) fn later_partners(&self, place: &[(usize, usize)], a: FaceId, out: &mut Vec<u32>) {
         let (i, s) = place[a.idx()];
-        self.later_in_node(1, self.height, &self.leaves[i], s, out);
+        let leaf = &self.leaves[i];
+        let probe = Probe {
+            bounds: leaf.bounds(s),
+            slabs: self.slabs(leaf, s),
+            v: [0, 1, 2].map(|k| leaf.v[k][s]),
+            group: leaf.group[s],
+            face: leaf.face[s],
+        };
+        self.later_in_node(1, self.height, &probe, out);
     }
 
-    /// [`Bvh::later_partners`] of the triangle in slot `s` of `leaf`, in
-    /// node `n` of height `h`.
-    fn later_in_node(&self, n: usize, h: u32, leaf: &Leaf, s: usize, out: &mut Vec<u32>) {
-        let (b, group) = (leaf.bounds(s), leaf.group[s]);
-        let own = self.slabs(leaf, s);
-        if !self.nodes[n].meets(&b)
-            || !self.slabs[n].meets(&own)
-            || (group != NO_GROUP && self.tags[n] == group)
-            || (0..3).any(|k| leaf.v[k][s] == self.hubs[n])
+    /// [`Bvh::later_partners`] of the triangle `probe`, in node `n` of
+    /// height `h`.
+    fn later_in_node(&self, n: usize, h: u32, probe: &Probe, out: &mut Vec<u32>) {
+        if !self.nodes[n].meets(&probe.bounds)
+            || !self.slabs[n].meets(&probe.slabs)
+            || (probe.group != NO_GROUP && self.tags[n] == probe.group)
+            || probe.v.contains(&self.hubs[n])
         {
             return;
         }
         if h > 0 {
-            self.later_in_node(2 * n, h - 1, leaf, s, out);
-            self.later_in_node(2 * n + 1, h - 1, leaf, s, out);
+            self.later_in_node(2 * n, h - 1, probe, out);
+            self.later_in_node(2 * n + 1, h - 1, probe, out);
             return;
         }
         let i = n - (1 << self.height);
         let Some(other) = self.leaves.get(i) else {
             return;
         };
-        let v = [0, 1, 2].map(|k| leaf.v[k][s]);
-        let mut mask = other.candidates(&b, v, group) & Self::slots(self.filled(i));
+        let mut mask =
+            other.candidates(&probe.bounds, probe.v, probe.group) & Self::slots(self.filled(i));
         while mask != 0 {
             let t = mask.trailing_zeros() as usize;
             mask &= mask - 1;
-            if other.face[t] > leaf.face[s] && own.meets(&self.slabs(other, t)) {
+            if other.face[t] > probe.face && probe.slabs.meets(&self.slabs(other, t)) {
                 out.push(other.face[t]);
             }
         }
@@ -850,6 +856,16 @@ impl<'m> Bvh<'m> {
         let v = [0, 1, 2].map(|k| l.v[k][t] as usize);
         Slabs::of(self.frame.place_all(v.map(|v| self.mesh.positions[v])))
     }
+}
+
+/// A triangle whose later partners [`Bvh::later_partners`] looks for:
+/// its volume, vertex ids, group and position in the input, read once.
+struct Probe {
+    bounds: Bounds,
+    slabs: Slabs,
+    v: [u32; 3],
+    group: u32,
+    face: u32,
 }
 
 /// One search of [`Bvh::pairs`]: its test, and the count it stops at.
