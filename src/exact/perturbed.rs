@@ -274,6 +274,8 @@ impl Planar for EpsPoint<'_> {
     /// `(b - a) x (c - a)` is `k0 + k1 epsilon + k2 epsilon^2` with
     /// `k0 = B x C`, `k1 = B x dC + dB x C`, `k2 = dB x dC` (`B = b0 - a0`,
     /// `dB = db - da`, likewise for `c`): the sign of the first non-zero.
+    /// `epsilon` is symbolic (an infinitesimal), never a number: no
+    /// tolerance, only the exact signs of `k0`, `k1`, `k2`.
     fn orient(a: &Self, b: &Self, c: &Self) -> Sign {
         let k0 = orient2d_filtered(&a.base, &b.base, &c.base);
         if k0 != Sign::Zero {
