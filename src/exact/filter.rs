@@ -52,7 +52,7 @@ impl Interval {
 
     /// A value known exactly.
     #[inline]
-    fn at(v: f64) -> Interval {
+    pub(crate) fn at(v: f64) -> Interval {
         Interval { lo: v, hi: v }
     }
 
@@ -65,17 +65,17 @@ impl Interval {
     }
 
     #[inline]
-    fn add(self, o: Interval) -> Interval {
+    pub(crate) fn add(self, o: Interval) -> Interval {
         Interval::widen(self.lo + o.lo, self.hi + o.hi)
     }
 
     #[inline]
-    fn sub(self, o: Interval) -> Interval {
+    pub(crate) fn sub(self, o: Interval) -> Interval {
         Interval::widen(self.lo - o.hi, self.hi - o.lo)
     }
 
     #[inline]
-    fn mul(self, o: Interval) -> Interval {
+    pub(crate) fn mul(self, o: Interval) -> Interval {
         let p = [
             self.lo * o.lo,
             self.lo * o.hi,
@@ -87,6 +87,37 @@ impl Interval {
         }
         let lo = p.iter().copied().fold(f64::INFINITY, f64::min);
         let hi = p.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        Interval::widen(lo, hi)
+    }
+
+    /// The negated interval (exact).
+    #[inline]
+    pub(crate) fn neg(self) -> Interval {
+        Interval {
+            lo: -self.hi,
+            hi: -self.lo,
+        }
+    }
+
+    /// The quotient; everything when the divisor may be zero. Over a
+    /// divisor of one sign the quotient is monotone in each argument, so
+    /// the four quotients of the ends bound it, each within one ulp.
+    #[inline]
+    pub(crate) fn div(self, o: Interval) -> Interval {
+        if !(o.lo > 0.0 || o.hi < 0.0) {
+            return Interval::EVERYTHING;
+        }
+        let q = [
+            self.lo / o.lo,
+            self.lo / o.hi,
+            self.hi / o.lo,
+            self.hi / o.hi,
+        ];
+        if q.iter().any(|x| x.is_nan()) {
+            return Interval::EVERYTHING;
+        }
+        let lo = q.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = q.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         Interval::widen(lo, hi)
     }
 
@@ -107,7 +138,7 @@ impl Interval {
 
     /// The sign, when the interval decides it (finite and away from zero).
     #[inline]
-    fn sign(self) -> Option<Sign> {
+    pub(crate) fn sign(self) -> Option<Sign> {
         if self.lo > 0.0 && self.lo.is_finite() && self.hi.is_finite() {
             Some(Sign::Positive)
         } else if self.hi < 0.0 && self.lo.is_finite() && self.hi.is_finite() {
@@ -289,6 +320,18 @@ impl<'a> FilteredPoint<'a> {
             self.ix = ix;
             self.iy = iy;
         }
+    }
+
+    /// The enclosures of the point's coordinates, in its frame.
+    #[inline]
+    pub(crate) fn enclosure(&self) -> [Interval; 2] {
+        [self.ix, self.iy]
+    }
+
+    /// The frame the approximations are in.
+    #[inline]
+    pub(crate) fn frame(&self) -> Frame {
+        self.frame
     }
 
     /// The exact point as two doubles, when it is exactly them.
@@ -556,7 +599,46 @@ mod tests {
             .sub(b.iy.sub(a.iy).mul(c.ix.sub(a.ix)))
     }
 
+    /// A double drawn across the range (mantissa and exponent).
+    fn any_double() -> impl Strategy<Value = f64> {
+        (-(1i64 << 53)..(1i64 << 53), -1000i32..960)
+            .prop_map(|(m, e)| crate::exact::scale::times_pow2(m as f64, e))
+    }
+
     proptest! {
+        /// The quotient of two intervals holds every quotient of their
+        /// members (here their ends, where the extremes lie) and is a few
+        /// units in the last place wide when they are single doubles.
+        #[test]
+        fn quotients_are_enclosed(
+            [a, b, c, d] in proptest::array::uniform4(any_double()),
+        ) {
+            let rat = crate::exact::rational::rat_from_f64;
+            let (n, m) = (Interval::widen(a.min(b), a.max(b)), Interval::widen(c.min(d), c.max(d)));
+            let q = n.div(m);
+            if m.lo > 0.0 || m.hi < 0.0 {
+                for x in [n.lo, n.hi] {
+                    for y in [m.lo, m.hi] {
+                        let exact = rat(x) / rat(y);
+                        prop_assert!(q.lo == f64::NEG_INFINITY || rat(q.lo) <= exact);
+                        prop_assert!(q.hi == f64::INFINITY || exact <= rat(q.hi));
+                    }
+                }
+            } else {
+                prop_assert_eq!(q, Interval::EVERYTHING);
+            }
+            if c != 0.0 {
+                let q = Interval::at(a).div(Interval::at(c));
+                let exact = rat(a) / rat(c);
+                prop_assert!(q.lo == f64::NEG_INFINITY || rat(q.lo) <= exact);
+                prop_assert!(q.hi == f64::INFINITY || exact <= rat(q.hi));
+                let r = a / c;
+                if r.is_normal() && r.abs() < f64::MAX / 4.0 {
+                    prop_assert!(q.lo >= r.next_down() && q.hi <= r.next_up());
+                }
+            }
+        }
+
         /// The enclosure's sign, when given, is the exact sign, and its
         /// midpoint has that sign.
         #[test]

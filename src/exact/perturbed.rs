@@ -26,7 +26,9 @@
 
 use super::area::signed_area;
 use super::crossing::two_sum;
-use super::filter::{cmp_x, cmp_y, orient2d_filtered, signed_area_filtered, FilteredPoint};
+use super::filter::{
+    cmp_x, cmp_y, orient2d_filtered, signed_area_filtered, FilteredPoint, Interval,
+};
 use super::planar::Planar;
 use super::point::{LoopPoint, Point2};
 use super::predicates::orient3d;
@@ -77,6 +79,16 @@ impl Motion {
         } else {
             None
         }
+    }
+
+    /// An enclosure of `d` (see [`Motion::velocity`]).
+    fn velocity_enclosure(&self) -> [Interval; 2] {
+        let diff = |k: usize| Interval::at(self.b[k]).sub(Interval::at(self.a[k]));
+        let dz = match self.towards {
+            Towards::Above => diff(2),
+            Towards::Below => diff(2).neg(),
+        };
+        [diff(0).div(dz), diff(1).div(dz)]
     }
 
     /// `d = s (b - a) / (h(b) - h(a))` in x and y, exactly.
@@ -375,6 +387,9 @@ pub fn orientation(points: &[EpsPoint<'_>], limit: &[LoopPoint]) -> Sign {
     }
     let n = points.len();
     let one_limit = points.iter().all(|p| p.same_limit(&points[0]));
+    if let Some(s) = area_terms_filtered(points, one_limit) {
+        return s;
+    }
     let (mut a1, mut a2) = (Rat::zero(), Rat::zero());
     for i in 0..n {
         let (p, q) = (&points[i], &points[(i + 1) % n]);
@@ -392,9 +407,45 @@ pub fn orientation(points: &[EpsPoint<'_>], limit: &[LoopPoint]) -> Sign {
     }
 }
 
+/// `x` cross `y` of enclosures.
+fn cross_enclosed([ax, ay]: [Interval; 2], [bx, by]: [Interval; 2]) -> Interval {
+    ax.mul(by).sub(ay.mul(bx))
+}
+
+/// The sign of `a1` of [`orientation`] (of `a2` when `one_limit`, where
+/// `a1 = 0`), when an enclosure of the sum decides it: the limits'
+/// enclosures (see [`FilteredPoint`]) and the velocities' (interval
+/// quotients of the edges' differences), every operation widened outward
+/// (see [`Interval`]). `None` when the enclosure holds zero (then the
+/// rationals decide, and go on to `a2` where `a1` is zero) or the limits
+/// are in a scaled frame (the velocities are in stored units).
+fn area_terms_filtered(points: &[EpsPoint<'_>], one_limit: bool) -> Option<Sign> {
+    if points.iter().any(|p| !p.base.frame().is_identity()) {
+        return None;
+    }
+    let d: Vec<[Interval; 2]> = points
+        .iter()
+        .map(|p| p.motion.velocity_enclosure())
+        .collect();
+    let n = points.len();
+    let mut sum = Interval::at(0.0);
+    for i in 0..n {
+        let j = (i + 1) % n;
+        sum = if one_limit {
+            sum.add(cross_enclosed(d[i], d[j]))
+        } else {
+            let (p, q) = (points[i].base.enclosure(), points[j].base.enclosure());
+            sum.add(cross_enclosed(p, d[j]))
+                .add(cross_enclosed(d[i], q))
+        };
+    }
+    sum.sign()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::exact::level::Level;
     use proptest::prelude::*;
 
     /// A double of either sign with a mantissa of `m` and exponent `e`
@@ -451,6 +502,41 @@ mod tests {
             a2 += cross(&dp.x, &dp.y, &dq.x, &dq.y);
         }
         (a1, a2)
+    }
+
+    /// L- of a ridge on the plane (`z = 1` along `y = 0`, the roof falling
+    /// to `y = -1` and `y = 1` at `z = 0`): a loop with zero limit area,
+    /// its bottom run moving to `-y`, its top run back at `+y`, so
+    /// counter-clockwise. The enclosures decide it, without rationals.
+    #[test]
+    fn a_loop_collapsing_onto_a_ridge_is_decided_by_enclosures() {
+        let xs = [0.0, 5.0, 10.0];
+        let on_ridge: Vec<LoopPoint> = xs
+            .iter()
+            .map(|&x| LoopPoint::of_vertex([x, 0.0, 1.0]))
+            .collect();
+        let down = |i: usize, side: f64| Motion {
+            a: [xs[i], 0.0, 1.0],
+            b: [xs[i], side, 0.0],
+            towards: Towards::Below,
+        };
+        let order = [
+            (0, -1.0),
+            (1, -1.0),
+            (2, -1.0),
+            (2, 1.0),
+            (1, 1.0),
+            (0, 1.0),
+        ];
+        let ps: Vec<EpsPoint<'_>> = order
+            .iter()
+            .map(|&(i, side)| EpsPoint::new(&on_ridge[i], down(i, side)))
+            .collect();
+        let limit: Vec<LoopPoint> = order.iter().map(|&(i, _)| on_ridge[i].clone()).collect();
+        assert_eq!(area_terms_filtered(&ps, false), Some(Sign::Positive));
+        assert_eq!(orientation(&ps, &limit), Sign::Positive);
+        let reversed: Vec<EpsPoint<'_>> = ps.iter().rev().cloned().collect();
+        assert_eq!(area_terms_filtered(&reversed, false), Some(Sign::Negative));
     }
 
     proptest! {
@@ -513,6 +599,49 @@ mod tests {
             for k in 0..2 {
                 prop_assert_eq!(a.cmp_velocity(b, k), a.cmp_velocity_in_rationals(b, k));
                 prop_assert_eq!(b.cmp_velocity(c, k), b.cmp_velocity_in_rationals(c, k));
+            }
+        }
+
+        /// Where the enclosures of `a1` (or of `a2`, for a loop
+        /// collapsing to one vertex) decide a sign, it is the sign of the
+        /// exact sum; on loops of crossings (limits on their edges) and of
+        /// points around one vertex, either side, across the range.
+        #[test]
+        fn filtered_area_terms_are_the_exact_signs(
+            edges in prop::collection::vec((point(), point()), 3..9),
+            v in point(),
+            c in point(),
+            above in any::<bool>(),
+        ) {
+            let towards = if above { Towards::Above } else { Towards::Below };
+            let level = Level::new(rat_from_f64(c[2]));
+            // Each edge turned to cross the level: one end below, one above.
+            let crossing: Vec<([f64; 3], [f64; 3])> = edges
+                .iter()
+                .map(|&(mut a, mut b)| {
+                    a[2] = c[2] - a[2].abs().max(1.0);
+                    b[2] = c[2] + b[2].abs().max(1.0);
+                    (a, b)
+                })
+                .collect();
+            prop_assume!(crossing.iter().all(|(a, b)| a[2] < c[2] && c[2] < b[2]));
+            let limits: Vec<LoopPoint> =
+                crossing.iter().map(|&(a, b)| LoopPoint::on_edge(a, b, &level)).collect();
+            let ps: Vec<EpsPoint<'_>> = limits
+                .iter()
+                .zip(&crossing)
+                .map(|(l, &(a, b))| EpsPoint::new(l, Motion { a, b, towards }))
+                .collect();
+            let (a1, _) = area_terms(&ps);
+            if let Some(s) = area_terms_filtered(&ps, false) {
+                prop_assert_eq!(s, Sign::of_rat(&a1));
+            }
+            let at_v = LoopPoint::of_vertex(v);
+            let ws: Vec<[f64; 3]> = crossing.iter().map(|&(_, b)| [b[0], b[1], away(v[2])]).collect();
+            let around_v = around(&at_v, v, &ws, towards);
+            let (_, a2) = area_terms(&around_v);
+            if let Some(s) = area_terms_filtered(&around_v, true) {
+                prop_assert_eq!(s, Sign::of_rat(&a2));
             }
         }
 
