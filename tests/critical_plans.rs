@@ -341,3 +341,35 @@ fn the_readme_picture_is_current() {
     let committed = std::fs::read_to_string("docs/reeb-double-torus.svg").unwrap();
     assert_eq!(svg, committed);
 }
+
+/// The document is exactly what `serde_json` writes for its own value
+/// (keys in byte order at every level, one line), with every plan; each
+/// cluster lists the Reeb nodes at its heights, in order.
+#[test]
+fn critical_json_is_the_text_of_its_own_value() {
+    let mut clusters_seen = 0;
+    for mesh in ["double_torus", "peg_cube", "platform_grid", "upright_torus"] {
+        for plan in [
+            &[][..],
+            &["--layer-height", "1.5"][..],
+            &["--layer-height", "0.3", "--fit-critical"][..],
+        ] {
+            let mut args = vec!["critical", mesh, "--format", "json"];
+            args.extend_from_slice(plan);
+            let (code, out, err) = wmslice(&args);
+            assert_eq!(code, 0, "{mesh} {plan:?}: {err}");
+            let doc: serde_json::Value = serde_json::from_str(&out).unwrap();
+            assert_eq!(out, format!("{doc}\n"), "{mesh} {plan:?}");
+            let nodes = doc["reeb"]["nodes"].as_array().unwrap();
+            for c in doc["clusters"].as_array().into_iter().flatten() {
+                let heights = c["heights"].as_array().unwrap();
+                let at: Vec<u64> = (0..nodes.len() as u64)
+                    .filter(|&i| heights.contains(&nodes[i as usize]["z"]))
+                    .collect();
+                assert_eq!(c["nodes"], serde_json::json!(at), "{mesh} {plan:?}");
+                clusters_seen += usize::from(!at.is_empty());
+            }
+        }
+    }
+    assert!(clusters_seen > 0);
+}

@@ -12,6 +12,7 @@ use crate::critical::fit::PlanReport;
 use crate::critical::{CriticalLevel, CriticalReport, ReebNode};
 use crate::exact::rational::{rat_to_f64, rat_to_string, Rat};
 use serde_json::{json, Value};
+use std::collections::BTreeMap;
 use std::fmt::Write;
 
 fn s(r: &Rat) -> String {
@@ -60,47 +61,75 @@ fn facing_name(f: Facing) -> &'static str {
     }
 }
 
-/// A cluster: its heights and the nodes at them (what is involved).
-fn cluster_json(report: &CriticalReport, c: &[usize]) -> Value {
-    let nodes: Vec<usize> = (0..report.reeb.nodes.len())
-        .filter(|&i| c.contains(&report.reeb.nodes[i].level))
+/// A cluster: its heights and the nodes at them (what is involved), in
+/// node order; `nodes_at[l]` lists the nodes at level `l`.
+fn cluster_json(report: &CriticalReport, nodes_at: &[Vec<usize>], c: &[usize]) -> Value {
+    let mut nodes: Vec<usize> = c
+        .iter()
+        .flat_map(|&l| nodes_at[l].iter().copied())
         .collect();
+    nodes.sort_unstable();
+    nodes.dedup();
     json!({
         "heights": c.iter().map(|&i| s(&report.levels[i].z)).collect::<Vec<_>>(),
         "nodes": nodes,
     })
 }
 
+/// A JSON array of values made and written one at a time: a mesh with
+/// hundreds of thousands of critical points never holds them all as
+/// `Value`s (several hundred bytes of maps each), only as text.
+fn array_text(items: impl IntoIterator<Item = Value>) -> String {
+    let mut t = String::from("[");
+    for (i, v) in items.into_iter().enumerate() {
+        if i > 0 {
+            t.push(',');
+        }
+        t.push_str(&v.to_string());
+    }
+    t.push(']');
+    t
+}
+
 /// The `wmslice-critical` JSON document (one line, newline-terminated).
+/// Keys in byte order at every level, as `serde_json`'s maps write them.
 pub fn critical_json(
     header: &MeshHeader,
     report: &CriticalReport,
     plan: Option<&PlanReport>,
 ) -> String {
-    let mut doc = json!({
-        "format": "wmslice-critical",
-        "version": 1,
-        "mesh": header,
-        "genus": report.genus,
-        "components": report.components,
-        "critical": report.levels.iter().map(level_json).collect::<Vec<_>>(),
-        "reeb": {
-            "nodes": report.reeb.nodes.iter().map(node_json).collect::<Vec<_>>(),
-            "arcs": report.reeb.arcs,
-        },
-    });
-    if let (Some(plan), Some(obj)) = (plan, doc.as_object_mut()) {
-        let clusters: Vec<Value> = plan
+    let text = |v: Value| v.to_string();
+    let mut doc: BTreeMap<&str, String> = BTreeMap::new();
+    doc.insert("format", text(json!("wmslice-critical")));
+    doc.insert("version", text(json!(1)));
+    doc.insert("mesh", text(json!(header)));
+    doc.insert("genus", text(json!(report.genus)));
+    doc.insert("components", text(json!(report.components)));
+    doc.insert("critical", array_text(report.levels.iter().map(level_json)));
+    doc.insert(
+        "reeb",
+        format!(
+            "{{\"arcs\":{},\"nodes\":{}}}",
+            text(json!(report.reeb.arcs)),
+            array_text(report.reeb.nodes.iter().map(node_json))
+        ),
+    );
+    if let Some(plan) = plan {
+        let mut nodes_at = vec![Vec::new(); report.levels.len()];
+        for (i, n) in report.reeb.nodes.iter().enumerate() {
+            nodes_at[n.level].push(i);
+        }
+        let clusters = plan
             .clusters()
             .iter()
-            .map(|c| cluster_json(report, c))
-            .collect();
+            .map(|c| cluster_json(report, &nodes_at, c));
+        doc.insert("clusters", array_text(clusters));
         match plan {
             PlanReport::Fitted { height, layers, .. } => {
-                obj.insert("layer_height".into(), s(height).into());
-                obj.insert(
-                    "layers".into(),
-                    layers.iter().map(|l| json!([s(&l[0]), s(&l[1])])).collect(),
+                doc.insert("layer_height", text(json!(s(height))));
+                doc.insert(
+                    "layers",
+                    array_text(layers.iter().map(|l| json!([s(&l[0]), s(&l[1])]))),
                 );
             }
             PlanReport::Uniform {
@@ -109,32 +138,35 @@ pub fn critical_json(
                 audit,
                 ..
             } => {
-                obj.insert("layer_height".into(), s(height).into());
-                obj.insert("first".into(), s(first).into());
-                obj.insert(
-                    "audit".into(),
-                    audit
-                        .iter()
-                        .map(|a| {
-                            json!({
-                                "z": s(&report.levels[a.level].z),
-                                "facing": facing_name(a.facing),
-                                "regions": a.regions,
-                                "layer": a.layer,
-                                "bounds": [s(&a.bounds[0]), s(&a.bounds[1])],
-                                "printed_at": s(&a.printed_at),
-                                "offset": s(&a.offset),
-                            })
+                doc.insert("layer_height", text(json!(s(height))));
+                doc.insert("first", text(json!(s(first))));
+                doc.insert(
+                    "audit",
+                    array_text(audit.iter().map(|a| {
+                        json!({
+                            "z": s(&report.levels[a.level].z),
+                            "facing": facing_name(a.facing),
+                            "regions": a.regions,
+                            "layer": a.layer,
+                            "bounds": [s(&a.bounds[0]), s(&a.bounds[1])],
+                            "printed_at": s(&a.printed_at),
+                            "offset": s(&a.offset),
                         })
-                        .collect(),
+                    })),
                 );
             }
         }
-        obj.insert("clusters".into(), clusters.into());
     }
-    let mut text = doc.to_string();
-    text.push('\n');
-    text
+    let mut out = String::from("{");
+    for (i, (key, value)) in doc.iter().enumerate() {
+        if i > 0 {
+            out.push(',');
+        }
+        // The keys are plain ASCII names: no escaping.
+        let _ = write!(out, "\"{key}\":{value}");
+    }
+    out.push_str("}\n");
+    out
 }
 
 fn approx(r: &Rat) -> String {
