@@ -24,6 +24,8 @@ use crate::mesh::topology::Topology;
 use crate::mesh::Mesh;
 use num_bigint::BigInt;
 use num_traits::Zero;
+use rstar::primitives::{GeomWithData, Rectangle};
+use rstar::{RTree, AABB};
 use std::cmp::Ordering;
 use std::collections::HashMap;
 
@@ -220,6 +222,60 @@ pub(super) fn area_sign(a0: &Rat, pts: &[EpsPoint<'_>]) -> Sign {
     }
 }
 
+/// For each loop, the loops that contain its first point for small
+/// `epsilon > 0` ([`inside`], exact), in index order. A loop is tested
+/// only where the closed box of its points' enclosures meets the point's
+/// enclosure (an R-tree query): a point whose limit lies strictly outside
+/// the box of a loop's limits stays outside the loop for small `epsilon`,
+/// so skipping the others changes no answer. Loops with an unbounded
+/// enclosure (coordinates beyond the filters' range) are always tested.
+pub(super) fn containers(loops: &[Vec<EpsPoint<'_>>]) -> Vec<Vec<usize>> {
+    let bounded = |[lo, hi]: [[f64; 2]; 2]| lo.iter().chain(&hi).all(|v| v.is_finite());
+    let boxes: Vec<[[f64; 2]; 2]> = loops
+        .iter()
+        .map(|l| {
+            l.iter().fold(
+                [[f64::INFINITY; 2], [f64::NEG_INFINITY; 2]],
+                |[lo, hi], p| {
+                    let (a, b) = p.bounds();
+                    [
+                        [lo[0].min(a[0]), lo[1].min(a[1])],
+                        [hi[0].max(b[0]), hi[1].max(b[1])],
+                    ]
+                },
+            )
+        })
+        .collect();
+    let (finite, unbounded): (Vec<usize>, Vec<usize>) =
+        (0..loops.len()).partition(|&j| bounded(boxes[j]));
+    let tree = RTree::bulk_load(
+        finite
+            .iter()
+            .map(|&j| GeomWithData::new(Rectangle::from_corners(boxes[j][0], boxes[j][1]), j))
+            .collect(),
+    );
+    (0..loops.len())
+        .map(|i| {
+            let Some(r) = loops[i].first() else {
+                return Vec::new();
+            };
+            let (lo, hi) = r.bounds();
+            let mut near: Vec<usize> = if bounded([lo, hi]) {
+                let query = AABB::from_corners(lo, hi);
+                tree.locate_in_envelope_intersecting(&query)
+                    .map(|g| g.data)
+                    .chain(unbounded.iter().copied())
+                    .collect()
+            } else {
+                (0..loops.len()).collect()
+            };
+            near.sort_unstable();
+            near.retain(|&j| j != i && inside(&loops[j], r));
+            near
+        })
+        .collect()
+}
+
 /// Whether `r` lies inside the polygon `poly` for small `epsilon > 0`
 /// (crossing parity of a ray to +x; `r` is on no segment of `poly`).
 pub(super) fn inside(poly: &[EpsPoint<'_>], r: &EpsPoint<'_>) -> bool {
@@ -255,6 +311,72 @@ mod tests {
     }
 
     proptest! {
+        /// The R-tree's pruning changes no answer: every loop's containers
+        /// are those every other loop's parity test finds. Squares and
+        /// points collapsing at vertices on a small grid (nested, shared
+        /// sides, shared corners, one point's box touching another loop's),
+        /// some with a corner below the filters' range (unbounded enclosures).
+        #[test]
+        fn containers_are_those_of_every_pair(
+            squares in prop::collection::vec((0i32..12, 0i32..12, 0i32..6, any::<bool>()), 1..24),
+            tiny in prop::collection::vec(prop::bool::weighted(0.2), 24),
+        ) {
+            // A first corner moved to (t, t), below the filters' range:
+            // the loop's enclosure is unbounded.
+            let t = 2f64.powi(-1000);
+            let limits: Vec<Vec<LoopPoint>> = squares
+                .iter()
+                .enumerate()
+                .map(|(i, &(x, y, size, _))| {
+                    let corners = if size == 0 {
+                        vec![(x, y); 3]
+                    } else {
+                        vec![(x, y), (x + size, y), (x + size, y + size), (x, y + size)]
+                    };
+                    corners
+                        .into_iter()
+                        .enumerate()
+                        .map(|(k, (a, b))| {
+                            let p = if k == 0 && tiny[i] { [t, t] } else { [f64::from(a), f64::from(b)] };
+                            LoopPoint::of_vertex([p[0], p[1], 0.0])
+                        })
+                        .collect()
+                })
+                .collect();
+            let loops: Vec<Vec<EpsPoint<'_>>> = limits
+                .iter()
+                .zip(&squares)
+                .map(|(ps, &(x, y, size, out))| {
+                    let centre = [f64::from(2 * x + size), f64::from(2 * y + size)];
+                    ps.iter()
+                        .enumerate()
+                        .map(|(k, p)| {
+                            let [px, py] = p.to_f64();
+                            // Away from the centre (or turning, for a
+                            // collapsed loop), outwards or inwards.
+                            let (dx, dy) = if size == 0 {
+                                [(1.0, 0.0), (-1.0, 1.0), (-1.0, -1.0)][k % 3]
+                            } else {
+                                (2.0 * px - centre[0], 2.0 * py - centre[1])
+                            };
+                            let s = if out { 1.0 } else { -1.0 };
+                            let a = [px, py, 0.0];
+                            let b = [px + s * dx, py + s * dy, 1.0];
+                            EpsPoint::new(p, Motion { a, b, towards: Towards::Above })
+                        })
+                        .collect()
+                })
+                .collect();
+            let every: Vec<Vec<usize>> = (0..loops.len())
+                .map(|i| {
+                    (0..loops.len())
+                        .filter(|&j| j != i && inside(&loops[j], &loops[i][0]))
+                        .collect()
+                })
+                .collect();
+            prop_assert_eq!(containers(&loops), every);
+        }
+
         /// The one-fraction crossing equals `a + (b - a) t`, `t = (c -
         /// za) / (zb - za)`, in rationals step by step, at a level between
         /// the ends (its decimal neighbours too).

@@ -12,7 +12,7 @@ use crate::exact::Sign;
 use crate::verify::doc::{LoopDoc, On};
 use crate::verify::facts::{Pieces, Side};
 use crate::verify::geometry::{Family as Loops, Pt};
-use crate::verify::limits::{area_sign, canonical, inside, limit_loops, LimitLoop, Moving};
+use crate::verify::limits::{area_sign, canonical, containers, limit_loops, LimitLoop, Moving};
 use crate::verify::report::{Family, Problem};
 use num_traits::Zero;
 use std::collections::HashMap;
@@ -114,13 +114,7 @@ impl LevelCheck<'_, '_> {
         // Containment at c -/+ epsilon, where the loops are disjoint
         // simple polygons: any crossing represents its loop.
         let n = pts.len();
-        let containers: Vec<Vec<usize>> = (0..n)
-            .map(|i| {
-                (0..n)
-                    .filter(|&j| j != i && inside(&pts[j], &pts[i][0]))
-                    .collect()
-            })
-            .collect();
+        let containers = containers(&pts);
         let depth: Vec<Option<usize>> = containers.iter().map(|c| Some(c.len())).collect();
         let index: Vec<usize> = (0..n).collect();
         for (i, g) in geoms.iter().enumerate() {
