@@ -16,8 +16,10 @@
 //!
 //! The constant term is decided by the filtered predicates of
 //! [`FilteredPoint`]; the other terms are needed only where the limits
-//! tie. Comparing two velocities is the sign of one `orient3d` of the
-//! edges' ends (exact, adaptive; `cmp_velocity_of` derives it). An
+//! tie. Comparing two velocities is an order of exact products of the
+//! edges' differences, or the sign of one `orient3d` of their ends
+//! (exact, adaptive; `cmp_velocity_of` derives it). A loop's area terms
+//! are summed on certified enclosures first (`area_terms_filtered`). An
 //! orientation's other terms are in exact rationals, but where the tied
 //! points move along edges from one vertex on the plane (a loop
 //! collapsing to an isolated extremum, or passing through a saddle):
@@ -373,6 +375,8 @@ impl Planar for EpsPoint<'_> {
 /// `2 a1 = sum p_i x d_{i+1} + d_i x p_{i+1}`, `2 a2 = sum d_i x d_{i+1}`.
 /// Where every `p_i` is one point `p` (a loop collapsing to a point),
 /// `2 a1 = p x D + D x p = 0` with `D = sum d_i`, and only `a2` is summed.
+/// Each sum on certified enclosures first (`area_terms_filtered`), in
+/// exact rationals where they cannot tell.
 pub fn orientation(points: &[EpsPoint<'_>], limit: &[LoopPoint]) -> Sign {
     let bases: Vec<FilteredPoint<'_>> = points.iter().map(|p| p.base.clone()).collect();
     if let Some(s) = signed_area_filtered(&bases)

@@ -228,7 +228,7 @@ pub(super) fn area_sign(a0: &Rat, pts: &[EpsPoint<'_>]) -> Sign {
 /// enclosure (an R-tree query): a point whose limit lies strictly outside
 /// the box of a loop's limits stays outside the loop for small `epsilon`,
 /// so skipping the others changes no answer. Loops with an unbounded
-/// enclosure (coordinates beyond the filters' range) are always tested.
+/// enclosure (coordinates outside the filters' range) are always tested.
 pub(super) fn containers(loops: &[Vec<EpsPoint<'_>>]) -> Vec<Vec<usize>> {
     let bounded = |[lo, hi]: [[f64; 2]; 2]| lo.iter().chain(&hi).all(|v| v.is_finite());
     let boxes: Vec<[[f64; 2]; 2]> = loops
@@ -237,7 +237,10 @@ pub(super) fn containers(loops: &[Vec<EpsPoint<'_>>]) -> Vec<Vec<usize>> {
             l.iter().fold(
                 [[f64::INFINITY; 2], [f64::NEG_INFINITY; 2]],
                 |[lo, hi], p| {
+                    // An enclosure that says nothing (NaN) is unbounded.
                     let (a, b) = p.bounds();
+                    let a = a.map(|v| if v.is_nan() { f64::NEG_INFINITY } else { v });
+                    let b = b.map(|v| if v.is_nan() { f64::INFINITY } else { v });
                     [
                         [lo[0].min(a[0]), lo[1].min(a[1])],
                         [hi[0].max(b[0]), hi[1].max(b[1])],
