@@ -60,7 +60,7 @@ pub(crate) fn two_sum(a: f64, b: f64) -> (f64, f64) {
 /// `a b = p + e` exactly (TwoProd by FMA; exact when the exponents of `a`
 /// and `b` sum to at least `-969`, so that `e` does not underflow).
 #[inline(always)]
-fn two_prod(a: f64, b: f64) -> (f64, f64) {
+pub(crate) fn two_prod(a: f64, b: f64) -> (f64, f64) {
     let p = a * b;
     (p, a.mul_add(b, -p))
 }

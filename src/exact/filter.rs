@@ -633,6 +633,9 @@ mod tests {
                 prop_assert!(q.lo == f64::NEG_INFINITY || rat(q.lo) <= exact);
                 prop_assert!(q.hi == f64::INFINITY || exact <= rat(q.hi));
                 let r = a / c;
+                // The width claim is made where the rounded quotient is a
+                // normal double away from overflow (a test's precondition,
+                // not a tolerance: nothing here decides a sign).
                 if r.is_normal() && r.abs() < f64::MAX / 4.0 {
                     prop_assert!(q.lo >= r.next_down() && q.hi <= r.next_up());
                 }

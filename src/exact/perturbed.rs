@@ -27,7 +27,7 @@
 //! `EpsPoint::orient_at_one_vertex` derives.
 
 use super::area::signed_area;
-use super::crossing::two_sum;
+use super::crossing::{two_prod, two_sum};
 use super::filter::{
     cmp_x, cmp_y, orient2d_filtered, signed_area_filtered, FilteredPoint, Interval,
 };
@@ -203,7 +203,7 @@ fn cmp_velocity_of(p: &Motion, q: &Motion, k: usize) -> Ordering {
 
 /// `b - a` when it is a double: the error of the rounded difference is
 /// exactly zero (Knuth's TwoSum), and the factor is within
-/// [`cmp_products`]' range.
+/// [`cmp_double_products`]' range.
 fn exact_difference(a: f64, b: f64) -> Option<f64> {
     let (d, e) = two_sum(b, -a);
     (e == 0.0 && in_product_range(d)).then_some(d)
@@ -221,8 +221,8 @@ fn in_product_range(x: f64) -> bool {
 
 /// The exact order of `a b` and `c d` for factors in range: rounding is
 /// monotone, so unequal rounded products are ordered as the exact ones;
-/// equal ones are ordered by their exact errors (`fma`).
-fn cmp_products(a: f64, b: f64, c: f64, d: f64) -> Ordering {
+/// equal ones are ordered by their exact errors ([`two_prod`]).
+fn cmp_double_products(a: f64, b: f64, c: f64, d: f64) -> Ordering {
     let (p, q) = (a * b, c * d);
     if p != q {
         return if p < q {
@@ -231,7 +231,8 @@ fn cmp_products(a: f64, b: f64, c: f64, d: f64) -> Ordering {
             Ordering::Greater
         };
     }
-    let (e, f) = (a.mul_add(b, -p), c.mul_add(d, -q));
+    // Ties only: the errors cost an `fma` each (a library call without it).
+    let ((_, e), (_, f)) = (two_prod(a, b), two_prod(c, d));
     e.partial_cmp(&f).unwrap_or(Ordering::Equal)
 }
 
@@ -244,7 +245,7 @@ fn cmp_velocity_in_doubles(p: &Motion, q: &Motion, k: usize) -> Option<Ordering>
     let fk = exact_difference(q.a[k], q.b[k])?;
     let fz = exact_difference(q.a[2], q.b[2])?;
     let gz = if p.towards == q.towards { fz } else { -fz };
-    let numerator = Sign::of_ordering(cmp_products(ek, gz, fk, ez));
+    let numerator = Sign::of_ordering(cmp_double_products(ek, gz, fk, ez));
     let signs = Sign::of_cmp(ez.partial_cmp(&0.0)) * Sign::of_cmp(gz.partial_cmp(&0.0));
     Some((numerator * signs * p.towards.sign()).ordering())
 }
@@ -654,7 +655,7 @@ mod tests {
         /// moved by one unit in the last place, or factors traded by a
         /// power of two).
         #[test]
-        fn products_compare_exactly(
+        fn double_products_compare_exactly(
             [a, b, c, d] in prop::array::uniform4((-(1i64 << 52)..(1i64 << 52), -560i32..520)),
             tie in 0usize..4,
         ) {
@@ -669,7 +670,7 @@ mod tests {
             if [a, b, c, d].iter().all(|&x| in_product_range(x)) {
                 let exact =
                     (rat_from_f64(a) * rat_from_f64(b)).cmp(&(rat_from_f64(c) * rat_from_f64(d)));
-                prop_assert_eq!(cmp_products(a, b, c, d), exact);
+                prop_assert_eq!(cmp_double_products(a, b, c, d), exact);
             }
         }
 

@@ -69,7 +69,6 @@ fn cluster_json(report: &CriticalReport, nodes_at: &[Vec<usize>], c: &[usize]) -
         .flat_map(|&l| nodes_at[l].iter().copied())
         .collect();
     nodes.sort_unstable();
-    nodes.dedup();
     json!({
         "heights": c.iter().map(|&i| s(&report.levels[i].z)).collect::<Vec<_>>(),
         "nodes": nodes,

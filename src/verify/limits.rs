@@ -223,7 +223,8 @@ pub(super) fn area_sign(a0: &Rat, pts: &[EpsPoint<'_>]) -> Sign {
 }
 
 /// For each loop, the loops that contain its first point for small
-/// `epsilon > 0` ([`inside`], exact), in index order. A loop is tested
+/// `epsilon > 0` (symbolic, never a number; [`inside`], exact), in index
+/// order. A loop is tested
 /// only where the closed box of its points' enclosures meets the point's
 /// enclosure (an R-tree query): a point whose limit lies strictly outside
 /// the box of a loop's limits stays outside the loop for small `epsilon`,
