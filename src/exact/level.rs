@@ -20,6 +20,22 @@ pub struct Level {
     small: Option<(i128, i128)>,
     /// `c = p / q` when both fit `i128` (`q > 0`).
     wide: Option<(i128, i128)>,
+    /// `c = p / q 2^k` with `p`, `q` odd (or `p = 0`, `q = 1`, `k = 0`)
+    /// when both fit `i128` (`q > 0`): levels of meshes at the ends of the
+    /// double range, whose numerators or denominators are mostly twos.
+    odd_parts: Option<(i128, i128, i32)>,
+}
+
+/// `(p, q, k)` with `n / d = p / q 2^k`, `p` and `q` odd (`p = 0`, `q = 1`,
+/// `k = 0` for zero), when they fit `i128` and `k` fits `i32`.
+fn odd_parts(value: &Rat) -> Option<(i128, i128, i32)> {
+    let (n, d) = (value.numer(), value.denom());
+    let Some(tn) = n.trailing_zeros() else {
+        return Some((0, 1, 0));
+    };
+    let td = d.trailing_zeros()?;
+    let k = i32::try_from(tn).ok()? - i32::try_from(td).ok()?;
+    Some(((n >> tn).to_i128()?, (d >> td).to_i128()?, k))
 }
 
 /// `x 2^k`, when it fits `i128`.
@@ -93,6 +109,7 @@ impl Level {
         };
         let small = wide.filter(|(p, q)| p.unsigned_abs() < 1 << 62 && *q < 1 << 62);
         Level {
+            odd_parts: odd_parts(&value),
             value,
             lo,
             hi,
@@ -105,6 +122,13 @@ impl Level {
     #[inline]
     pub fn wide(&self) -> Option<(i128, i128)> {
         self.wide
+    }
+
+    /// `c = p / q 2^k` with `p` and `q` odd (`q > 0`; zero is `0 / 1`), when
+    /// they fit `i128`.
+    #[inline]
+    pub fn odd_parts(&self) -> Option<(i128, i128, i32)> {
+        self.odd_parts
     }
 
     /// `c = p / q` with `|p|, q < 2^62`, when it is that small (the integer

@@ -266,7 +266,7 @@ pub fn rat_to_f64(r: &Rat) -> f64 {
 /// The `f64` nearest to `n 2^e / d` (ties to even), for `d > 0`: the
 /// rounding of a point stored as integers. Integer division to 55 or 56
 /// bits plus a sticky bit, rounded once (to odd, then by the hardware's
-/// conversion); when the result would be near the subnormal range or
+/// conversion); when the result would be subnormal or
 /// overflow (or `d >= 2^126`), through [`rat_to_f64`].
 /// Equal to `rat_to_f64` of the same value (property-tested).
 pub fn ratio_to_f64(n: i128, d: u128, e: i32) -> f64 {
@@ -318,14 +318,27 @@ fn ratio_to_f64_normal(num: u128, d: u128, e: i32) -> Option<f64> {
     // hardware's conversion rounds once, to nearest even, exactly as the
     // exact quotient would round. No branch on the (random) low bits.
     let q = (q as u64) | u64::from(sticky);
-    // Rounded, q 2^exp lies in [2^(54 + exp), 2^(56 + exp)]: normal and
-    // finite, and the scale 2^exp a normal double (so the product is
-    // exact), when -1022 <= exp <= 967.
-    let exp = i64::from(e) - i64::from(s);
-    if !(-1022..=967).contains(&exp) {
+    scaled_quotient(q, i64::from(e) - i64::from(s))
+}
+
+/// `q 2^exp` rounded, for `q` in `[2^54, 2^56)` with its sticky bit
+/// folded into its last bit: `q` rounds once, at the conversion to a
+/// double. When the result is normal and finite (its leading bit at
+/// `2^-1022` to `2^1023`; else `None`) that conversion rounded at the
+/// result's own 53 bits, and every product by a power of two is exact:
+/// one by `2^exp` when it is a normal double, else two ([`times_pow2`]).
+#[inline]
+pub(crate) fn scaled_quotient(q: u64, exp: i64) -> Option<f64> {
+    let v = q as i64 as f64;
+    let lead = ((v.to_bits() >> 52) as i64 - 1023) + exp;
+    if !(-1022..=1023).contains(&lead) {
         return None;
     }
-    Some((q as i64 as f64) * f64::from_bits(((exp + 1023) as u64) << 52))
+    Some(if exp >= -1022 {
+        v * f64::from_bits(((exp + 1023) as u64) << 52)
+    } else {
+        super::scale::times_pow2(v, exp as i32)
+    })
 }
 
 /// `floor(num 2^s / d)` and whether the division leaves a remainder, when
@@ -461,6 +474,24 @@ mod tests {
             let d = (d >> (128 - db)).max(1);
             let reference = ratio_to_rat(n, d, e).to_f64().unwrap();
             proptest::prop_assert_eq!(ratio_to_f64(n, d, e).to_bits(), reference.to_bits());
+        }
+
+        /// Quotients that round into the least normal binades, where the
+        /// scale of the rounded quotient is below the normal doubles:
+        /// as num-rational rounds them, exact ties (54 significant bits
+        /// over one) included.
+        #[test]
+        fn quotients_in_the_least_normal_binades_round_correctly(
+            n in 1i128..(1i128 << 100), d in 1u128..(1u128 << 80),
+            m in (1i128 << 52)..(1i128 << 53), top in -1022i32..-960, tie in proptest::bool::ANY,
+        ) {
+            let (n, d) = if tie { (2 * m + 1, 1) } else { (n, d) };
+            let bits = |v: u128| 128 - v.leading_zeros() as i32;
+            let e = top + 1 - (bits(n.unsigned_abs()) - bits(d));
+            let reference = ratio_to_rat(n, d, e).to_f64().unwrap();
+            proptest::prop_assert!(reference >= f64::MIN_POSITIVE);
+            proptest::prop_assert_eq!(ratio_to_f64(n, d, e).to_bits(), reference.to_bits());
+            proptest::prop_assert_eq!(ratio_to_f64_normal(n.unsigned_abs(), d, e), Some(reference));
         }
 
         /// The estimate-and-correct quotient of a numerator shifted past

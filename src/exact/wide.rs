@@ -14,7 +14,7 @@
 //! (about 1.1 us against about 0.2 us here).
 //!
 //! The crossing is `x = 2^e0 X / W` with the six coordinates `k 2^e0` on
-//! their common binary grid and the level `p / q`:
+//! their common binary grid and the level `p / q 2^k` (`p`, `q` odd):
 //! `X = ax W + (bx - ax)(p' - q' az)`, `W = q' (bz - az)`, where
 //! `p' / q'` is the level in units of `2^e0`. The bounds below keep every
 //! product inside `I256`; the quotient is rounded once, as
@@ -22,6 +22,7 @@
 
 use super::level::Level;
 use super::point::Layout;
+use super::rational::scaled_quotient;
 use ethnum::{I256, U256};
 
 /// Every coordinate is `k 2^e0` with `|k| < 2^100`...
@@ -76,24 +77,23 @@ pub fn crossing_denominator_bits(a: [f64; 3], b: [f64; 3], level: &Level) -> Opt
 /// `(X, Y, W, e0)` with the crossing `(X 2^e0 / W, Y 2^e0 / W)`, `W > 0`,
 /// within the bounds above (see the module documentation).
 fn crossing_integers(a: [f64; 3], b: [f64; 3], level: &Level) -> Option<(I256, I256, U256, i32)> {
-    let (p, q) = level.wide()?;
+    let (p, q, k) = level.odd_parts()?;
     let layout = Layout::of([a[0], a[1], a[2], b[0], b[1], b[2]])?;
     if layout.places() > PLACES {
         return None;
     }
     let [ax, ay, az, bx, by, bz] = layout.ints_i128()?;
     let e0 = layout.lowest;
-    // p / q in units of 2^e0: p / (q 2^e0), the powers of two cancelled.
+    // p / q 2^k in units of 2^e0: p / q 2^(k - e0), the power of two on
+    // whichever side it belongs (p and q odd: nothing else cancels).
     let (p, q) = (I256::from(p), I256::from(q));
-    let k = e0.unsigned_abs();
+    let t = i64::from(k) - i64::from(e0);
     let (p, q) = if p == 0 {
         (p, I256::ONE)
-    } else if e0 >= 0 {
-        let t = p.trailing_zeros().min(k);
-        (p >> t, shifted(q, k - t)?)
+    } else if t >= 0 {
+        (shifted(p, u32::try_from(t).ok()?)?, q)
     } else {
-        let t = q.trailing_zeros().min(k);
-        (shifted(p, k - t)?, q >> t)
+        (p, shifted(q, u32::try_from(-t).ok()?)?)
     };
     if bits(p) > NUMERATOR_BITS || bits(q) > DENOMINATOR_BITS {
         return None;
@@ -146,14 +146,7 @@ fn nearest(n: I256, d: U256, e: i32) -> Option<f64> {
         return None;
     };
     let q = q.as_u64() | u64::from(rest);
-    // Rounded, q 2^exp lies in [2^(54 + exp), 2^(56 + exp)]: normal and
-    // finite, and the scale a normal double (so the product is exact),
-    // when -1022 <= exp <= 967.
-    let exp = i64::from(e) - i64::from(s);
-    if !(-1022..=967).contains(&exp) {
-        return None;
-    }
-    let v = (q as i64 as f64) * f64::from_bits(((exp + 1023) as u64) << 52);
+    let v = scaled_quotient(q, i64::from(e) - i64::from(s))?;
     Some(if n < 0 { -v } else { v })
 }
 
@@ -196,6 +189,26 @@ mod tests {
         );
         let c = Level::new(parse_rational("0.375").unwrap());
         assert_eq!(nearest_crossing(a, b, &c), Some(reference(a, b, &c)));
+    }
+
+    #[test]
+    fn ties_far_below_one() {
+        // A decimal mesh scaled by 1e-300, cut halfway up an edge: y is
+        // (5.33e-299 + 5.23e-299) / 2 of the doubles, exactly halfway
+        // between two doubles (their sum needs one bit more), with the
+        // level far beyond `i128` (a 53-bit odd part times 2^-1050) and
+        // the quotient's scale below the normal doubles. Checked against
+        // the big rationals.
+        let (a, b) = ([1.1e-300, 5.33e-299, 0.0], [1e-301, 5.23e-299, 1e-300]);
+        let half = Level::new(rat_from_f64(b[2]) / Rat::from_integer(2.into()));
+        assert!(half.wide().is_none());
+        let got = nearest_crossing(a, b, &half);
+        assert_eq!(got, Some(reference(a, b, &half)));
+        let exact_y = (rat_from_f64(a[1]) + rat_from_f64(b[1])) / Rat::from_integer(2.into());
+        let y = got.unwrap()[1];
+        let gap = rat_from_f64(y.next_up()) - rat_from_f64(y);
+        let off = num_traits::Signed::abs(&(exact_y - rat_from_f64(y))) / gap;
+        assert_eq!(off, Rat::new(1.into(), 2.into()), "a tie");
     }
 
     #[test]
@@ -273,11 +286,14 @@ mod tests {
         #![proptest_config(ProptestConfig::with_cases(1024))]
         /// Where the bounds promise it, the path answers (so the property
         /// above is not vacuous): integers below 2^60 on one grid, cut at
-        /// an exact fraction of the edge that fits `i128` (the exponents
-        /// are limited for that alone).
+        /// an exact fraction of the edge, near 1 or towards either end of
+        /// the range (where the level is far beyond `i128` but its odd
+        /// parts are not; the exponents are limited so that every result
+        /// is a normal double).
         #[test]
         fn answers_on_a_grid(
-            ks in proptest::array::uniform6(-(1i64 << 60)..1 << 60), e in -60i32..40,
+            ks in proptest::array::uniform6(-(1i64 << 60)..1 << 60),
+            e in prop_oneof![-60i32..40, -900i32..-860, 900i32..960],
             t in 1i64..64, den in 1i64..64,
         ) {
             let v = ks.map(|k| crate::exact::scale::times_pow2(k as f64, e));
