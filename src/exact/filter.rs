@@ -168,6 +168,17 @@ fn to_f64_within_ulp(v: i128) -> f64 {
     ((v >> shift) as i64 as f64) * f64::from_bits(((shift + 1023) as u64) << 52)
 }
 
+/// The bits of `v` from its highest set bit to its lowest (zero for zero).
+#[inline]
+fn significant_bits(v: i128) -> u32 {
+    let m = v.unsigned_abs();
+    if m == 0 {
+        0
+    } else {
+        128 - m.leading_zeros() - m.trailing_zeros()
+    }
+}
+
 /// Approximations of `x 2^e / w` and `y 2^e / w` (`w > 0`) within
 /// `2^-50` of them, relatively: `x`, `y` and `w` converted to doubles
 /// (relative error below `1.001u` each, `u = 2^-53`), `w`'s reciprocal
@@ -175,6 +186,10 @@ fn to_f64_within_ulp(v: i128) -> f64 {
 /// all. `None` out of the range where scaling is exact.
 #[inline]
 fn approx_pair(x: i128, y: i128, w: i128, e: i32) -> Option<(f64, f64)> {
+    // The origin is itself at every scale.
+    if x == 0 && y == 0 {
+        return Some((0.0, 0.0));
+    }
     if !(-900..=900).contains(&e) {
         return None;
     }
@@ -250,12 +265,14 @@ impl<'a> FilteredPoint<'a> {
         let ints = p.as_integers();
         let from_integers =
             ints.and_then(|(x, y, w, e)| approx_pair(x, y, w, e.checked_add(frame.shift())?));
-        // Integers below 2^53 convert exactly, and approx_pair's scaling by
-        // 1 / w (a power of two) and 2^e is exact in its range: then the
-        // doubles are the point.
+        // Integers of at most 53 significant bits convert exactly (the
+        // bits `to_f64_within_ulp` drops are zeros), and approx_pair's
+        // scaling by 1 / w (a power of two) and 2^e is exact in its range:
+        // then the doubles are the point. So a vertex whose coordinates
+        // lie in different binades is a double too.
         let is_double = from_integers.is_some()
             && ints.is_some_and(|(x, y, w, _)| {
-                w.count_ones() == 1 && x.unsigned_abs() <= 1 << 53 && y.unsigned_abs() <= 1 << 53
+                w.count_ones() == 1 && significant_bits(x) <= 53 && significant_bits(y) <= 53
             });
         let (x, y, abs) = from_integers.map_or_else(
             || {
@@ -340,13 +357,6 @@ impl<'a> FilteredPoint<'a> {
         self.is_double.then_some([self.x, self.y])
     }
 
-    /// The exact point as two doubles in stored units (not scaled by a
-    /// frame), when it is exactly them.
-    #[inline]
-    pub fn as_stored_double(&self) -> Option<[f64; 2]> {
-        self.as_double().filter(|_| self.frame.is_identity())
-    }
-
     /// Doubles enclosing the exact point: `([x_lo, y_lo], [x_hi, y_hi])`.
     pub fn bounds(&self) -> ([f64; 2], [f64; 2]) {
         let (x, y) = (self.ix, self.iy);
@@ -408,6 +418,14 @@ pub fn orient2d_filtered(
     // first stage is a static filter (exact for every finite double).
     if a.is_double && b.is_double && c.is_double {
         return orient2d_points([a.x, a.y], [b.x, b.y], [c.x, c.y]);
+    }
+    // Two of them one point (a loop's point with its own copy, as where
+    // loops touch): the determinant is zero, without the exact values.
+    if std::ptr::eq(a.exact, b.exact)
+        || std::ptr::eq(b.exact, c.exact)
+        || std::ptr::eq(c.exact, a.exact)
+    {
+        return Sign::Zero;
     }
     let det =
         b.ix.sub(a.ix)
@@ -556,6 +574,35 @@ mod tests {
     /// A triangle of thirds and sevenths at `1e9` from the origin: the
     /// shoelace about the origin cannot tell its sign (its error grows
     /// with `1e18`), the one about its first point can.
+    /// Integers of at most 53 significant bits are doubles wherever
+    /// they lie (a vertex whose coordinates are in different binades, as
+    /// `(37.3, 0.01)`); 54 bits are not. Hand-made: the exact values are
+    /// read back from the integers.
+    #[test]
+    fn doubles_by_their_significant_bits() {
+        let vertex = LoopPoint::of_vertex([37.3, 0.01, 0.0]);
+        let f = FilteredPoint::new(&vertex);
+        assert_eq!(f.as_double(), Some([37.3, 0.01]));
+        let wide = ((1i128 << 53) - 1) << 70;
+        let far = LoopPoint::from_integers(wide, -3, 4, -2).unwrap();
+        let [x, y] = FilteredPoint::new(&far).as_double().unwrap();
+        let exact = far.exact();
+        assert_eq!(
+            (Rat::from_float(x).unwrap(), Rat::from_float(y).unwrap()),
+            (exact.x.clone(), exact.y.clone())
+        );
+        let odd = LoopPoint::from_integers((1i128 << 53) + 1, 1, 1, 0).unwrap();
+        assert_eq!(FilteredPoint::new(&odd).as_double(), None);
+        assert_eq!(
+            (
+                significant_bits(0),
+                significant_bits(-12),
+                significant_bits(wide)
+            ),
+            (0, 2, 53)
+        );
+    }
+
     #[test]
     fn small_loop_far_from_the_origin_is_decided_by_the_filter() {
         let o = 1_000_000_000i64;

@@ -31,10 +31,12 @@ use super::crossing::{two_prod, two_sum};
 use super::filter::{
     cmp_x, cmp_y, orient2d_filtered, signed_area_filtered, FilteredPoint, Interval,
 };
+use super::frame::Frame;
 use super::planar::Planar;
 use super::point::{LoopPoint, Point2};
 use super::predicates::orient3d;
 use super::rational::{rat_from_f64, Rat};
+use super::scale::{leading_exponent, times_pow2};
 use super::Sign;
 use num_traits::Zero;
 use std::cell::OnceCell;
@@ -61,7 +63,7 @@ impl Towards {
 
 /// How a point moves with `epsilon`: along an edge, crossed at
 /// `c +/- epsilon`.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Motion {
     /// The edge's ends (exact doubles, in the mesh's stored units).
     pub a: [f64; 3],
@@ -171,6 +173,16 @@ fn at_one_vertex<const N: usize>(ms: [&Motion; N]) -> Option<([f64; 3], [[f64; 3
     })
 }
 
+/// `p` multiplied by the frame's `2^s`, when every coordinate is exactly
+/// that (see [`Frame::place_normal`]); `p` itself in the identity frame.
+fn placed(frame: Frame, p: [f64; 3]) -> Option<[f64; 3]> {
+    if frame.is_identity() {
+        return Some(p);
+    }
+    let [x, y, z] = p.map(|v| frame.place_normal(v));
+    Some([x?, y?, z?])
+}
+
 /// The sign of `h(w) - h(v)`, never zero for an edge a point moves along.
 fn rise(v: [f64; 3], w: [f64; 3]) -> Sign {
     Sign::of_cmp(w[2].partial_cmp(&v[2]))
@@ -194,19 +206,43 @@ fn cmp_velocity_of(p: &Motion, q: &Motion, k: usize) -> Ordering {
     }
     // Negating a double is exact.
     let u = if p.towards == q.towards { 1.0 } else { -1.0 };
+    // Any `lambda > 0` in place of the last column's 1 multiplies the
+    // determinant by `lambda`: a power of two of the ends' magnitude keeps
+    // the twelve coordinates within `robust`'s window at the ends of the
+    // range (else they span over 600 bits and the integers decide).
+    let top = [p.a, p.b, q.a, q.b]
+        .iter()
+        .flat_map(|v| [v[k], v[2]])
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    let lambda = leading_exponent(top).map_or(1.0, |e| times_pow2(1.0, e));
     let first = |v: [f64; 3]| [v[k], v[2], 0.0];
-    let second = |v: [f64; 3]| [v[k], u * v[2], 1.0];
+    let second = |v: [f64; 3]| [v[k], u * v[2], lambda];
     let det = orient3d(first(p.a), first(p.b), second(q.a), second(q.b));
     let rise_q = Sign::of_cmp((u * q.b[2]).partial_cmp(&(u * q.a[2])));
     (det.flip() * rise(p.a, p.b) * rise_q * p.towards.sign()).ordering()
 }
 
 /// `b - a` when it is a double: the error of the rounded difference is
-/// exactly zero (Knuth's TwoSum), and the factor is within
-/// [`cmp_double_products`]' range.
+/// exactly zero (Knuth's TwoSum).
 fn exact_difference(a: f64, b: f64) -> Option<f64> {
     let (d, e) = two_sum(b, -a);
-    (e == 0.0 && in_product_range(d)).then_some(d)
+    (e == 0.0).then_some(d)
+}
+
+/// Factors within [`cmp_double_products`]' range: as they are, else all
+/// multiplied by the power of two that brings the largest into `[1, 2)`,
+/// when every result is zero or at least `2^-480` (so each is exactly its
+/// product: only normal values are scaled down, and scaling up cannot
+/// round). Both products of two factors are then multiplied by one
+/// positive square, and keep their order.
+fn in_product_range_scaled(xs: [f64; 4]) -> Option<[f64; 4]> {
+    if xs.iter().all(|&x| in_product_range(x)) {
+        return Some(xs);
+    }
+    let top = xs.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let e = leading_exponent(top)?;
+    let ys = xs.map(|x| times_pow2(x, -e));
+    ys.iter().all(|&y| in_product_range(y)).then_some(ys)
 }
 
 /// `2^-480`, `2^480`: factors of magnitude between these (or zero) have
@@ -237,13 +273,16 @@ fn cmp_double_products(a: f64, b: f64, c: f64, d: f64) -> Ordering {
 }
 
 /// [`cmp_velocity_of`] where `E_k`, `E_z`, `F_k`, `F_z` are doubles
-/// (checked exactly; `None` otherwise): the sign of
-/// `E_k G_z - G_k E_z` is the order of two exact products.
+/// (checked exactly; `None` otherwise, or where they span too many bits
+/// to share one scaling): the sign of `E_k G_z - G_k E_z` is the order of
+/// two exact products.
 fn cmp_velocity_in_doubles(p: &Motion, q: &Motion, k: usize) -> Option<Ordering> {
-    let ek = exact_difference(p.a[k], p.b[k])?;
-    let ez = exact_difference(p.a[2], p.b[2])?;
-    let fk = exact_difference(q.a[k], q.b[k])?;
-    let fz = exact_difference(q.a[2], q.b[2])?;
+    let [ek, ez, fk, fz] = in_product_range_scaled([
+        exact_difference(p.a[k], p.b[k])?,
+        exact_difference(p.a[2], p.b[2])?,
+        exact_difference(q.a[k], q.b[k])?,
+        exact_difference(q.a[2], q.b[2])?,
+    ])?;
     let gz = if p.towards == q.towards { fz } else { -fz };
     let numerator = Sign::of_ordering(cmp_double_products(ek, gz, fk, ez));
     let signs = Sign::of_cmp(ez.partial_cmp(&0.0)) * Sign::of_cmp(gz.partial_cmp(&0.0));
@@ -280,7 +319,9 @@ impl EpsPoint<'_> {
     /// turn) whose limit is `v` itself, the third's limit `r` a double:
     /// `B = 0`, so `k1 = dB x C = s det(E_p, E_q, (C, 0)) / (delta_p
     /// delta_q)` with `C = r - v`, which is `orient3d(v, w_p, w_q, (r,
-    /// h(v)))`; when it is zero, `k2` is left to the rationals.
+    /// h(v)))`; when it is zero, `k2` is left to the rationals. In a
+    /// scaled frame, `v`, `w_p` and `w_q` are placed in it (exactly, else
+    /// `None`) to meet the limits' doubles there.
     fn orient_at_one_vertex(a: &Self, b: &Self, c: &Self) -> Option<Sign> {
         let (ab, bc) = (a.same_limit(b), b.same_limit(c));
         if ab && bc {
@@ -299,14 +340,61 @@ impl EpsPoint<'_> {
         if p.motion.towards != q.motion.towards {
             return None;
         }
-        let (v, [wp, wq]) = at_one_vertex([&p.motion, &q.motion])?;
-        if p.base.as_stored_double()? != [v[0], v[1]] {
+        // In the limits' frame: every determinant's sign and every rise
+        // is unchanged by the exact scaling.
+        let frame = p.base.frame();
+        if r.base.frame() != frame {
             return None;
         }
-        let [x, y] = r.base.as_stored_double()?;
+        let (v, [wp, wq]) = at_one_vertex([&p.motion, &q.motion])?;
+        let (v, wp, wq) = (placed(frame, v)?, placed(frame, wp)?, placed(frame, wq)?);
+        if p.base.as_double()? != [v[0], v[1]] {
+            return None;
+        }
+        let [x, y] = r.base.as_double()?;
         let k1 =
             orient3d(v, wp, wq, [x, y, v[2]]) * rise(v, wp) * rise(v, wq) * p.motion.towards.sign();
         (k1 != Sign::Zero).then_some(k1)
+    }
+
+    /// The sign of `k1`, else of `k2`, of [`Planar::orient`] (for
+    /// `k0 = 0`) on certified enclosures, when they decide it: `B` and `C`
+    /// from the limits' enclosures (exactly zero where the limits are one
+    /// point), `dB` and `dC` from the velocities' (exactly zero where two
+    /// points move along one edge to one side), every operation widened
+    /// outward (see [`Interval`]). `k1` exactly zero (each of its products
+    /// has a factor exactly zero) goes on to `k2`; a point compared with
+    /// itself is `Zero`. `None` when an enclosure holds zero but is not
+    /// exactly zero, or the limits are in different frames.
+    ///
+    /// In a frame scaled by `2^s`, `B` and `C` are `2^s` times their
+    /// values in stored units and the velocities are the same (ratios of
+    /// differences): `k1` is multiplied by `2^s`, `k2` not at all, and
+    /// neither sign changes.
+    fn orient_enclosed(a: &Self, b: &Self, c: &Self) -> Option<Sign> {
+        let frame = a.base.frame();
+        if b.base.frame() != frame || c.base.frame() != frame {
+            return None;
+        }
+        let limit_from_a = |p: &Self| {
+            (!p.same_limit(a)).then(|| {
+                let ([px, py], [ax, ay]) = (p.base.enclosure(), a.base.enclosure());
+                [px.sub(ax), py.sub(ay)]
+            })
+        };
+        let velocity_from_a = |p: &Self| {
+            (p.motion != a.motion).then(|| {
+                let ([px, py], [ax, ay]) =
+                    (p.motion.velocity_enclosure(), a.motion.velocity_enclosure());
+                [px.sub(ax), py.sub(ay)]
+            })
+        };
+        let (bb, cc) = (limit_from_a(b), limit_from_a(c));
+        let (db, dc) = (velocity_from_a(b), velocity_from_a(c));
+        match add_unless_zero(cross_unless_zero(bb, dc), cross_unless_zero(db, cc)) {
+            Some(k1) => k1.sign(),
+            None => cross_unless_zero(db, dc).map_or(Some(Sign::Zero), Interval::sign),
+        }
     }
 
     /// The sign of `k1`, else of `k2`, of [`Planar::orient`], in exact
@@ -356,6 +444,7 @@ impl Planar for EpsPoint<'_> {
             return k0;
         }
         EpsPoint::orient_at_one_vertex(a, b, c)
+            .or_else(|| EpsPoint::orient_enclosed(a, b, c))
             .unwrap_or_else(|| EpsPoint::orient_in_rationals(a, b, c))
     }
 
@@ -412,6 +501,19 @@ pub fn orientation(points: &[EpsPoint<'_>], limit: &[LoopPoint]) -> Sign {
     }
 }
 
+/// `x` cross `y` of enclosures, `None` standing for exactly zero.
+fn cross_unless_zero(x: Option<[Interval; 2]>, y: Option<[Interval; 2]>) -> Option<Interval> {
+    Some(cross_enclosed(x?, y?))
+}
+
+/// The sum of enclosures, `None` standing for exactly zero.
+fn add_unless_zero(x: Option<Interval>, y: Option<Interval>) -> Option<Interval> {
+    match (x, y) {
+        (Some(x), Some(y)) => Some(x.add(y)),
+        (x, y) => x.or(y),
+    }
+}
+
 /// `x` cross `y` of enclosures.
 fn cross_enclosed([ax, ay]: [Interval; 2], [bx, by]: [Interval; 2]) -> Interval {
     ax.mul(by).sub(ay.mul(bx))
@@ -423,9 +525,18 @@ fn cross_enclosed([ax, ay]: [Interval; 2], [bx, by]: [Interval; 2]) -> Interval 
 /// quotients of the edges' differences), every operation widened outward
 /// (see [`Interval`]). `None` when the enclosure holds zero (then the
 /// rationals decide, and go on to `a2` where `a1` is zero) or the limits
-/// are in a scaled frame (the velocities are in stored units).
+/// are in different frames.
+///
+/// The limits' enclosures are in their frame (`2^s` times stored units),
+/// the velocities in stored units: a velocity is a ratio of differences,
+/// the same in every frame, so each term of `a1` is `2^s` times its value
+/// in stored units and the sum keeps its sign. `a2` has no limit in it.
+/// Every interval operation is widened outward by one ulp, which encloses
+/// the correctly rounded result anywhere in the double range (subnormal,
+/// overflowing: then infinite, and [`Interval::sign`] says nothing).
 fn area_terms_filtered(points: &[EpsPoint<'_>], one_limit: bool) -> Option<Sign> {
-    if points.iter().any(|p| !p.base.frame().is_identity()) {
+    let frame = points.first()?.base.frame();
+    if points.iter().any(|p| p.base.frame() != frame) {
         return None;
     }
     let d: Vec<[Interval; 2]> = points
@@ -544,8 +655,191 @@ mod tests {
         assert_eq!(area_terms_filtered(&reversed, false), Some(Sign::Negative));
     }
 
+    /// The ridge loop above, scaled to the ends of the double range (by
+    /// `2^-1060`, where the rises are subnormal, and by `2^1000`), its
+    /// limits in the frame a mesh there takes: still counter-clockwise,
+    /// still decided by enclosures.
+    #[test]
+    fn a_ridge_loop_at_the_ends_of_the_range_is_decided_in_its_frame() {
+        for e in [-1060, 1000] {
+            let at = |p: [f64; 3]| p.map(|v| double(1, e) * v);
+            let xs = [0.0, 5.0, 10.0];
+            let on_ridge: Vec<LoopPoint> = xs
+                .iter()
+                .map(|&x| LoopPoint::of_vertex(at([x, 0.0, 1.0])))
+                .collect();
+            let frame = Frame::for_points(xs.iter().map(|&x| at([x, 1.0, 1.0])));
+            assert!(!frame.is_identity());
+            let order = [
+                (0, -1.0),
+                (1, -1.0),
+                (2, -1.0),
+                (2, 1.0),
+                (1, 1.0),
+                (0, 1.0),
+            ];
+            let ps: Vec<EpsPoint<'_>> = order
+                .iter()
+                .map(|&(i, side)| {
+                    let motion = Motion {
+                        a: at([xs[i], 0.0, 1.0]),
+                        b: at([xs[i], side, 0.0]),
+                        towards: Towards::Below,
+                    };
+                    in_frame(&on_ridge[i], frame, motion)
+                })
+                .collect();
+            assert_eq!(
+                area_terms_filtered(&ps, false),
+                Some(Sign::Positive),
+                "2^{e}"
+            );
+            let (a1, _) = area_terms(&ps);
+            assert_eq!(Sign::of_rat(&a1), Sign::Positive, "2^{e}");
+        }
+    }
+
+    /// A point with limit `l` filtered in `frame`.
+    fn in_frame(l: &LoopPoint, frame: Frame, motion: Motion) -> EpsPoint<'_> {
+        EpsPoint::with_base(FilteredPoint::in_frame(l, frame), motion)
+    }
+
+    /// Points around a vertex `v` on the plane and a crossing elsewhere,
+    /// all multiplied by `2^shift`, their limits in the frame such a mesh
+    /// takes: the two edges from `v` to `ws`, the crossing of `(a, b)`
+    /// (turned to cross the plane), which is not a double.
+    fn vertex_and_crossing(
+        v: [f64; 3],
+        ws: [[f64; 3]; 2],
+        (a, b): ([f64; 3], [f64; 3]),
+        shift: i32,
+    ) -> Option<(Frame, [[f64; 3]; 5])> {
+        let z = v[2];
+        let mut ws = ws;
+        for w in &mut ws {
+            if w[2] == z {
+                w[2] = away(z);
+            }
+        }
+        let (mut a, mut b) = (a, b);
+        a[2] = z - a[2].abs().max(1.0);
+        b[2] = z + b[2].abs().max(1.0);
+        let all =
+            [v, ws[0], ws[1], a, b].map(|p| p.map(|x| crate::exact::scale::times_pow2(x, shift)));
+        let [v, w0, w1, a, b] = all;
+        let fine = all.iter().flatten().all(|x| x.is_finite())
+            && [w0, w1].iter().all(|w| w[2] != v[2])
+            && a[2] < v[2]
+            && v[2] < b[2];
+        fine.then(|| (Frame::for_points(all), all))
+    }
+
+    /// The hand case of `orient_enclosed`: two points leaving the vertex
+    /// `(1, 2, 0)` along `(1, 0, 1)` and `(0, 1, 1)` (velocities `(1, 0)`
+    /// and `(0, 1)`) and the crossing `(6.5, 2.2)` of the edge from
+    /// `(6, 2.3, -1)` to `(7, 2.1, 1)`, not a double: `k0 = 0`, `k1 = dB x
+    /// C = (-1, 1) x (5.5, 0.2) = -5.7`. Decided by the enclosures, at
+    /// scale 1 and at both ends of the range.
+    #[test]
+    fn two_points_at_a_vertex_and_a_crossing_are_decided_by_enclosures() {
+        for shift in [0, -1000, 1000] {
+            let (frame, [v, w0, w1, a, b]) = vertex_and_crossing(
+                [1.0, 2.0, 0.0],
+                [[2.0, 2.0, 1.0], [1.0, 3.0, 1.0]],
+                ([6.0, 2.3, -1.0], [7.0, 2.1, 1.0]),
+                shift,
+            )
+            .unwrap();
+            let level = Level::new(rat_from_f64(v[2]));
+            let (at_v, cross) = (LoopPoint::of_vertex(v), LoopPoint::on_edge(a, b, &level));
+            let point = |l, a, b| {
+                in_frame(
+                    l,
+                    frame,
+                    Motion {
+                        a,
+                        b,
+                        towards: Towards::Above,
+                    },
+                )
+            };
+            let (p, q, r) = (
+                point(&at_v, v, w0),
+                point(&at_v, v, w1),
+                point(&cross, a, b),
+            );
+            assert_eq!(r.base.as_double(), None, "2^{shift}");
+            assert_eq!(EpsPoint::orient_at_one_vertex(&p, &q, &r), None);
+            assert_eq!(
+                EpsPoint::orient_enclosed(&p, &q, &r),
+                Some(Sign::Negative),
+                "2^{shift}"
+            );
+            assert_eq!(EpsPoint::orient_in_rationals(&p, &q, &r), Sign::Negative);
+            // A point with itself: zero, known without the rationals.
+            let r2 = r.clone();
+            assert_eq!(EpsPoint::orient_enclosed(&r, &r2, &p), Some(Sign::Zero));
+            // The third a vertex on the plane at (6, 2.25), a double in
+            // every frame: one orient3d, `k1 = (-1, 1) x (5, 0.25)`.
+            let s = |x: f64| crate::exact::scale::times_pow2(x, shift);
+            let u = [s(6.0), s(2.25), v[2]];
+            let at_u = LoopPoint::of_vertex(u);
+            let t = point(&at_u, u, [u[0], u[1], s(1.0)]);
+            assert_eq!(
+                EpsPoint::orient_at_one_vertex(&p, &q, &t),
+                Some(Sign::Negative),
+                "2^{shift}"
+            );
+            assert_eq!(EpsPoint::orient_in_rationals(&p, &q, &t), Sign::Negative);
+        }
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(2000))]
+
+        /// Where `k0` is zero (two limits one point: two edges from a
+        /// vertex on the plane, or one crossing met twice), the enclosures'
+        /// answer, and the orientation, equal the rationals', on
+        /// coordinates across the range, in frames at either end of it.
+        #[test]
+        fn enclosed_orientations_equal_the_rationals(
+            v in point(), ws in prop::array::uniform2(point()), e in (point(), point()),
+            shift in prop_oneof![Just(0i32), -1000i32..-900, 880i32..900],
+            ties in 0usize..3, above in any::<bool>(),
+        ) {
+            let mut ws = ws;
+            match ties {
+                // The second edge along the first, or sharing a coordinate.
+                0 => ws[1] = std::array::from_fn(|i| 2.0 * ws[0][i] - v[i]),
+                1 => ws[1][0] = ws[0][0],
+                _ => {}
+            }
+            let Some((frame, [v, w0, w1, a, b])) = vertex_and_crossing(v, ws, e, shift) else {
+                return Err(TestCaseError::reject("out of range"));
+            };
+            let towards = if above { Towards::Above } else { Towards::Below };
+            let level = Level::new(rat_from_f64(v[2]));
+            let (at_v, cross) = (LoopPoint::of_vertex(v), LoopPoint::on_edge(a, b, &level));
+            let point = |l, a, b| in_frame(l, frame, Motion { a, b, towards });
+            let (p, q) = (point(&at_v, v, w0), point(&at_v, w1, v));
+            let (r, r2) = (point(&cross, a, b), point(&cross, a, b));
+            let exact = |a: &EpsPoint<'_>, b: &EpsPoint<'_>, c: &EpsPoint<'_>| {
+                let k0 = orient2d_filtered(&a.base, &b.base, &c.base);
+                if k0 != Sign::Zero { k0 } else { EpsPoint::orient_in_rationals(a, b, c) }
+            };
+            for (x, y, z) in [
+                (&p, &q, &r), (&q, &r, &p), (&r, &p, &q),
+                (&r, &r2, &p), (&p, &r, &r2), (&r2, &q, &r), (&p, &p, &r),
+            ] {
+                let want = exact(x, y, z);
+                prop_assert_eq!(EpsPoint::orient(x, y, z), want);
+                if orient2d_filtered(&x.base, &y.base, &z.base) == Sign::Zero {
+                    if let Some(s) = EpsPoint::orient_enclosed(x, y, z) {
+                        prop_assert_eq!(s, want);
+                    }
+                }
+            }
+        }
 
         /// At one vertex on the plane, orientations and comparisons of
         /// points moving away from it (three, two and a third with another
@@ -650,6 +944,50 @@ mod tests {
             }
         }
 
+        /// As above, with every coordinate and the level scaled by `2^t`
+        /// towards either end of the double range (into the subnormals, up
+        /// to overflowing products) and the limits in the frame such a
+        /// mesh takes: the enclosures' signs are still the exact ones.
+        #[test]
+        fn filtered_area_terms_are_exact_in_scaled_frames(
+            edges in prop::collection::vec((point(), point()), 3..9),
+            c in point(),
+            t in prop_oneof![-1040i32..-900, 880i32..900],
+            above in any::<bool>(),
+        ) {
+            let towards = if above { Towards::Above } else { Towards::Below };
+            let at = |p: [f64; 3]| p.map(|v| crate::exact::scale::times_pow2(v, t));
+            let crossing: Vec<([f64; 3], [f64; 3])> = edges
+                .iter()
+                .map(|&(mut a, mut b)| {
+                    a[2] = c[2] - a[2].abs().max(1.0);
+                    b[2] = c[2] + b[2].abs().max(1.0);
+                    (at(a), at(b))
+                })
+                .collect();
+            let z = at(c)[2];
+            // Scaling may round (subnormals) or overflow: the edges must
+            // still be finite and cross the level.
+            prop_assume!(crossing.iter().flat_map(|(a, b)| a.iter().chain(b)).all(|v| v.is_finite()));
+            prop_assume!(crossing.iter().all(|(a, b)| a[2] < z && z < b[2]));
+            let level = Level::new(rat_from_f64(z));
+            let limits: Vec<LoopPoint> =
+                crossing.iter().map(|&(a, b)| LoopPoint::on_edge(a, b, &level)).collect();
+            let frame = Frame::for_points(crossing.iter().flat_map(|&(a, b)| [a, b]));
+            let ps: Vec<EpsPoint<'_>> = limits
+                .iter()
+                .zip(&crossing)
+                .map(|(l, &(a, b))| in_frame(l, frame, Motion { a, b, towards }))
+                .collect();
+            let (a1, a2) = area_terms(&ps);
+            if let Some(s) = area_terms_filtered(&ps, false) {
+                prop_assert_eq!(s, Sign::of_rat(&a1));
+            }
+            if let Some(s) = area_terms_filtered(&ps, true) {
+                prop_assert_eq!(s, Sign::of_rat(&a2));
+            }
+        }
+
         /// Products of doubles in range are ordered as the rationals
         /// order them, where they round to one double too (a factor
         /// moved by one unit in the last place, or factors traded by a
@@ -685,7 +1023,11 @@ mod tests {
             tie in 0usize..8,
             scale in -3i32..3,
             sides in (any::<bool>(), any::<bool>()),
+            shift in prop_oneof![Just(0i32), -1010i32..-900, 880i32..900],
         ) {
+            // Towards either end of the range too (the products scaled
+            // into range, `orient3d`'s last column scaled with them).
+            let ends = ends.map(|p| p.map(|v| crate::exact::scale::times_pow2(v, shift)));
             let [a, mut b, mut c, mut d] = ends;
             match tie {
                 // One end shared, then the same edge either way round.
@@ -705,7 +1047,7 @@ mod tests {
             if d[2] == c[2] {
                 d[2] = away(c[2]);
             }
-            prop_assume!(d.iter().all(|x| x.is_finite()));
+            prop_assume!(d.iter().all(|x| x.is_finite()) && a[2] != b[2] && c[2] != d[2]);
             let side = |above: bool| if above { Towards::Above } else { Towards::Below };
             let limit = LoopPoint::of_vertex([0.0, 0.0, 0.0]);
             let p = EpsPoint::new(&limit, Motion { a, b, towards: side(sides.0) });
