@@ -14,6 +14,8 @@
 
 use super::doc::On;
 use super::facts::{face_piece, Side};
+use crate::exact::filter::FilteredPoint;
+use crate::exact::frame::Frame;
 use crate::exact::perturbed::{EpsPoint, Motion, Towards};
 use crate::exact::planar::Planar;
 use crate::exact::point::LoopPoint;
@@ -155,12 +157,14 @@ impl Moving {
         Moving { limits, motions }
     }
 
-    /// The moving points.
-    pub fn points(&self) -> Vec<EpsPoint<'_>> {
+    /// The moving points, their limits filtered in `frame` (see
+    /// [`Frame`]: a power of two, which changes no answer, so that a mesh
+    /// near `1e-300` still has bounded enclosures).
+    pub fn points(&self, frame: Frame) -> Vec<EpsPoint<'_>> {
         self.limits
             .iter()
             .zip(&self.motions)
-            .map(|(l, &m)| EpsPoint::new(l, m))
+            .map(|(l, &m)| EpsPoint::with_base(FilteredPoint::in_frame(l, frame), m))
             .collect()
     }
 }
@@ -312,6 +316,43 @@ mod tests {
             8 => any::<u64>().prop_map(f64::from_bits).prop_filter("finite", |x| x.is_finite()),
             4 => (-1000i32..1000, -1000.0f64..1000.0).prop_map(|(k, m)| m * 2f64.powi(k / 10)),
         ]
+    }
+
+    /// A loop of a mesh near `2^-1000` (below the filters' range in
+    /// stored units) has a bounded box in the mesh's frame, so the R-tree
+    /// can prune it; in stored units it has none, and every loop would be
+    /// tested against every other (an egg crate at `1e-300`: 508 s).
+    #[test]
+    fn loops_near_the_least_doubles_are_bounded_in_their_frame() {
+        let t = 2f64.powi(-1000);
+        let ends = [
+            ([t, 0.0, -t], [t, t, t]),
+            ([3.0 * t, t, -t], [2.0 * t, 0.0, t]),
+            ([0.0, 2.0 * t, -t], [t, 2.0 * t, t]),
+        ];
+        let moving = Moving {
+            limits: ends
+                .iter()
+                .map(|&(a, b)| LoopPoint::from(crossing(a, b, &Rat::zero())))
+                .collect(),
+            motions: ends
+                .iter()
+                .map(|&(a, b)| Motion {
+                    a,
+                    b,
+                    towards: Towards::Above,
+                })
+                .collect(),
+        };
+        let frame = Frame::for_points(ends.iter().flat_map(|&(a, b)| [a, b]));
+        let bounded = |frame: Frame| {
+            moving.points(frame).iter().all(|p| {
+                let (lo, hi) = p.bounds();
+                lo.iter().chain(&hi).all(|v| v.is_finite())
+            })
+        };
+        assert!(bounded(frame));
+        assert!(!bounded(Frame::IDENTITY));
     }
 
     proptest! {

@@ -55,6 +55,7 @@ pub use doc::FormatError;
 pub use json::JsonError;
 pub use report::{Checked, Family, Place, Problem, Report, Violation};
 
+use crate::exact::frame::Frame;
 use crate::exact::rational::{rat_to_string, Rat};
 use crate::mesh::validate::{accept, Defect, Tally};
 use crate::mesh::Mesh;
@@ -190,6 +191,7 @@ fn prepare<'m>(mesh: &'m Mesh, unit: Option<&Rat>) -> Result<level::MeshCtx<'m>,
         tally: report.tally,
     })?;
     Ok(level::MeshCtx {
+        frame: Frame::for_points(mesh.positions.iter().copied()),
         mesh,
         topo,
         unit: unit.cloned().unwrap_or_else(Rat::one),

@@ -92,7 +92,7 @@ impl LevelCheck<'_, '_> {
             .iter()
             .map(|l| Moving::new(self.m.mesh, &self.m.topo, &c, &l.crossings, side))
             .collect();
-        let pts: Vec<Vec<_>> = moving.iter().map(Moving::points).collect();
+        let pts: Vec<Vec<_>> = moving.iter().map(|m| m.points(self.m.frame)).collect();
         for (i, g) in geoms.iter().enumerate() {
             let Some(role) = g.role else { continue };
             let sign = area_sign(&g.area, &pts[i]);

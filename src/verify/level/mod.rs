@@ -11,6 +11,7 @@ mod limits;
 mod regions;
 
 use crate::exact::area::AreaSum;
+use crate::exact::frame::Frame;
 use crate::exact::rational::{parse_rational, rat_to_f64, rat_to_string, Rat};
 use crate::exact::{Level, Point2, Sign};
 use crate::mesh::topology::Topology;
@@ -33,6 +34,10 @@ pub(super) struct MeshCtx<'a> {
     pub topo: Topology,
     /// The grid step: true coordinate = stored * unit.
     pub unit: Rat,
+    /// The power of two in which the moving points' filters work (the
+    /// slicer's choice for the same mesh: the identity but at the ends of
+    /// the double range). No answer depends on it.
+    pub frame: Frame,
     /// Edge id by sorted vertex pair, built when a level has ridges.
     pub edge_index: OnceCell<HashMap<(u32, u32), u32>>,
 }
