@@ -534,14 +534,21 @@ fn signed_area_static(points: &[FilteredPoint<'_>]) -> Option<AreaEstimate> {
     })
 }
 
-/// The shoelace in interval arithmetic.
-fn signed_area_intervals(points: &[FilteredPoint<'_>]) -> AreaEstimate {
+/// An enclosure of twice the signed area of a closed polygon: the
+/// shoelace on the points' enclosures, every operation widened outward.
+pub(crate) fn twice_area_enclosure(points: &[FilteredPoint<'_>]) -> Interval {
     let n = points.len();
     let mut twice = Interval { lo: 0.0, hi: 0.0 };
     for i in 0..n {
         let (p, q) = (&points[i], &points[(i + 1) % n]);
         twice = twice.add(p.ix.mul(q.iy).sub(q.ix.mul(p.iy)));
     }
+    twice
+}
+
+/// The shoelace in interval arithmetic.
+fn signed_area_intervals(points: &[FilteredPoint<'_>]) -> AreaEstimate {
+    let twice = twice_area_enclosure(points);
     // Halving is exact (barring underflow, which the widening covers).
     let (lo, hi) = ((twice.lo / 2.0).next_down(), (twice.hi / 2.0).next_up());
     let area = Interval { lo, hi };
