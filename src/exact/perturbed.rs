@@ -20,11 +20,13 @@
 //! edges' differences, or the sign of one `orient3d` of their ends
 //! (exact, adaptive; `cmp_velocity_of` derives it). A loop's area terms
 //! are summed on certified enclosures first (`area_terms_filtered`). An
-//! orientation's other terms are in exact rationals, but where the tied
-//! points move along edges from one vertex on the plane (a loop
-//! collapsing to an isolated extremum, or passing through a saddle):
-//! there they too are signs of `orient3d` of the mesh's own doubles, as
-//! `EpsPoint::orient_at_one_vertex` derives.
+//! orientation's other terms are signs of `orient3d` of the mesh's own
+//! doubles where the tied points move along edges from one vertex on the
+//! plane (a loop collapsing to an isolated extremum, or passing through a
+//! saddle), as `EpsPoint::orient_at_one_vertex` derives; else certified
+//! enclosures (`EpsPoint::orient_enclosed`); exact rationals last. Every
+//! filter works in the limits' frame (see `Frame`): signs do not change
+//! under one power of two.
 
 use super::area::signed_area;
 use super::crossing::{two_prod, two_sum};
