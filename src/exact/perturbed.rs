@@ -625,45 +625,13 @@ mod tests {
     /// L- of a ridge on the plane (`z = 1` along `y = 0`, the roof falling
     /// to `y = -1` and `y = 1` at `z = 0`): a loop with zero limit area,
     /// its bottom run moving to `-y`, its top run back at `+y`, so
-    /// counter-clockwise. The enclosures decide it, without rationals.
+    /// counter-clockwise. The enclosures decide it, without rationals: as
+    /// it is, and scaled to the ends of the double range (by `2^-1060`,
+    /// where the rises are subnormal, and by `2^1000`) with its limits in
+    /// the frame a mesh there takes.
     #[test]
     fn a_loop_collapsing_onto_a_ridge_is_decided_by_enclosures() {
-        let xs = [0.0, 5.0, 10.0];
-        let on_ridge: Vec<LoopPoint> = xs
-            .iter()
-            .map(|&x| LoopPoint::of_vertex([x, 0.0, 1.0]))
-            .collect();
-        let down = |i: usize, side: f64| Motion {
-            a: [xs[i], 0.0, 1.0],
-            b: [xs[i], side, 0.0],
-            towards: Towards::Below,
-        };
-        let order = [
-            (0, -1.0),
-            (1, -1.0),
-            (2, -1.0),
-            (2, 1.0),
-            (1, 1.0),
-            (0, 1.0),
-        ];
-        let ps: Vec<EpsPoint<'_>> = order
-            .iter()
-            .map(|&(i, side)| EpsPoint::new(&on_ridge[i], down(i, side)))
-            .collect();
-        let limit: Vec<LoopPoint> = order.iter().map(|&(i, _)| on_ridge[i].clone()).collect();
-        assert_eq!(area_terms_filtered(&ps, false), Some(Sign::Positive));
-        assert_eq!(orientation(&ps, &limit), Sign::Positive);
-        let reversed: Vec<EpsPoint<'_>> = ps.iter().rev().cloned().collect();
-        assert_eq!(area_terms_filtered(&reversed, false), Some(Sign::Negative));
-    }
-
-    /// The ridge loop above, scaled to the ends of the double range (by
-    /// `2^-1060`, where the rises are subnormal, and by `2^1000`), its
-    /// limits in the frame a mesh there takes: still counter-clockwise,
-    /// still decided by enclosures.
-    #[test]
-    fn a_ridge_loop_at_the_ends_of_the_range_is_decided_in_its_frame() {
-        for e in [-1060, 1000] {
+        for e in [0, -1060, 1000] {
             let at = |p: [f64; 3]| p.map(|v| double(1, e) * v);
             let xs = [0.0, 5.0, 10.0];
             let on_ridge: Vec<LoopPoint> = xs
@@ -671,7 +639,7 @@ mod tests {
                 .map(|&x| LoopPoint::of_vertex(at([x, 0.0, 1.0])))
                 .collect();
             let frame = Frame::for_points(xs.iter().map(|&x| at([x, 1.0, 1.0])));
-            assert!(!frame.is_identity());
+            assert_eq!(frame.is_identity(), e == 0);
             let order = [
                 (0, -1.0),
                 (1, -1.0),
@@ -691,13 +659,21 @@ mod tests {
                     in_frame(&on_ridge[i], frame, motion)
                 })
                 .collect();
+            let limit: Vec<LoopPoint> = order.iter().map(|&(i, _)| on_ridge[i].clone()).collect();
             assert_eq!(
                 area_terms_filtered(&ps, false),
                 Some(Sign::Positive),
                 "2^{e}"
             );
+            assert_eq!(orientation(&ps, &limit), Sign::Positive, "2^{e}");
             let (a1, _) = area_terms(&ps);
             assert_eq!(Sign::of_rat(&a1), Sign::Positive, "2^{e}");
+            let reversed: Vec<EpsPoint<'_>> = ps.iter().rev().cloned().collect();
+            assert_eq!(
+                area_terms_filtered(&reversed, false),
+                Some(Sign::Negative),
+                "2^{e}"
+            );
         }
     }
 
