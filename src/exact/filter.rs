@@ -419,8 +419,9 @@ pub fn orient2d_filtered(
     if a.is_double && b.is_double && c.is_double {
         return orient2d_points([a.x, a.y], [b.x, b.y], [c.x, c.y]);
     }
-    // Two of them one point (a loop's point with its own copy, as where
-    // loops touch): the determinant is zero, without the exact values.
+    // Two of them one exact point (the points of one run around a vertex
+    // on the plane share their limit): the determinant is zero, without
+    // the exact values.
     if std::ptr::eq(a.exact, b.exact)
         || std::ptr::eq(b.exact, c.exact)
         || std::ptr::eq(c.exact, a.exact)
@@ -578,9 +579,6 @@ mod tests {
         (-1_000_000i64..1_000_000, 1i64..1_000_000)
     }
 
-    /// A triangle of thirds and sevenths at `1e9` from the origin: the
-    /// shoelace about the origin cannot tell its sign (its error grows
-    /// with `1e18`), the one about its first point can.
     /// Integers of at most 53 significant bits are doubles wherever
     /// they lie (a vertex whose coordinates are in different binades, as
     /// `(37.3, 0.01)`); 54 bits are not. Hand-made: the exact values are
@@ -610,6 +608,9 @@ mod tests {
         );
     }
 
+    /// A triangle of thirds and sevenths at `1e9` from the origin: the
+    /// shoelace about the origin cannot tell its sign (its error grows
+    /// with `1e18`), the one about its first point can.
     #[test]
     fn small_loop_far_from_the_origin_is_decided_by_the_filter() {
         let o = 1_000_000_000i64;
