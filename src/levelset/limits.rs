@@ -28,6 +28,7 @@ use crate::exact::filter::{twice_area_enclosure, FilteredPoint, Interval};
 use crate::exact::frame::Frame;
 use crate::exact::perturbed::{orientation, EpsPoint, Motion, Towards};
 use crate::exact::point::LoopPoint;
+use crate::exact::Rat;
 use crate::exact::Sign;
 use crate::ids::{EdgeId, VertexId};
 use crate::nest::{nest, Family};
@@ -265,14 +266,22 @@ fn zero_regions(loops: &[(&[LoopPoint], Option<usize>)], frame: Frame) -> Vec<bo
             children[p].push(i);
         }
     }
+    // Each loop's exact area at most once (a child's serves its own
+    // region and its parent's).
+    let mut exact: Vec<Option<Rat>> = vec![None; loops.len()];
+    let mut area = |i: usize| -> Rat {
+        exact[i]
+            .get_or_insert_with(|| signed_area(loops[i].0))
+            .clone()
+    };
     (0..loops.len())
         .map(|i| {
             region[i].sign().is_none() && {
-                let mut area = signed_area(loops[i].0);
+                let mut sum = area(i);
                 for &c in &children[i] {
-                    area += signed_area(loops[c].0);
+                    sum += area(c);
                 }
-                area.is_zero()
+                sum.is_zero()
             }
         })
         .collect()
@@ -282,7 +291,6 @@ fn zero_regions(loops: &[(&[LoopPoint], Option<usize>)], frame: Frame) -> Vec<bo
 mod tests {
     use super::*;
     use crate::exact::level::Level;
-    use crate::exact::Rat;
     use num_traits::Zero;
     use proptest::prelude::*;
 

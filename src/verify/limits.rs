@@ -228,12 +228,12 @@ pub(super) fn area_sign(a0: &Rat, pts: &[EpsPoint<'_>]) -> Sign {
 
 /// For each loop, the loops that contain its first point for small
 /// `epsilon > 0` (symbolic, never a number; [`inside`], exact), in index
-/// order. A loop is tested
-/// only where the closed box of its points' enclosures meets the point's
-/// enclosure (an R-tree query): a point whose limit lies strictly outside
-/// the box of a loop's limits stays outside the loop for small `epsilon`,
-/// so skipping the others changes no answer. Loops with an unbounded
-/// enclosure (coordinates outside the filters' range) are always tested.
+/// order. A loop is tested only where the closed box of its points'
+/// enclosures meets the point's enclosure (an R-tree query): a point
+/// whose limit lies strictly outside the box of a loop's limits stays
+/// outside the loop for small `epsilon`, so skipping the others changes
+/// no answer. Loops with an unbounded enclosure (coordinates outside the
+/// filters' range) are always tested.
 pub(super) fn containers(loops: &[Vec<EpsPoint<'_>>]) -> Vec<Vec<usize>> {
     let bounded = |[lo, hi]: [[f64; 2]; 2]| lo.iter().chain(&hi).all(|v| v.is_finite());
     let boxes: Vec<[[f64; 2]; 2]> = loops
