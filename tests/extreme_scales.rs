@@ -14,7 +14,7 @@ use wmslice::exact::rational::Rat;
 use wmslice::exact::{Point2, Sign};
 use wmslice::levelset::check::check_level_invariants;
 use wmslice::levelset::{LevelSet, Loop};
-use wmslice::mesh::validate::validate;
+use wmslice::mesh::validate::{validate, Defect, ShellFacing};
 use wmslice::nest::Role;
 use wmslice::output::json::{to_json, Exactness, MeshHeader};
 use wmslice::verify::verify;
@@ -330,6 +330,32 @@ fn defects_and_flips_are_the_same_at_every_scale() {
             [1, 2, 3],
         ],
     );
+    // Two bodies: the unit tetrahedron and one moved by (1/4, 1/4, 1/4)
+    // overlap (their faces cross); one of size 8 around the unit one at
+    // (1, 1, 1), both facing out, is a solid inside a solid.
+    let two = |outer: f64, at: f64| {
+        let mut m = tetra_pair();
+        for (i, p) in m.positions.iter_mut().enumerate() {
+            *p = if i < 4 {
+                p.map(|x| x * outer)
+            } else {
+                p.map(|x| x + at)
+            };
+        }
+        m
+    };
+    let (overlapping, nested) = (two(1.0, 0.25), two(8.0, 1.0));
+    let (crossings, misnested) = (validate(&overlapping).defects, validate(&nested).defects);
+    let named = |ds: &[Defect], what: fn(&Defect) -> bool| ds.iter().filter(|d| what(d)).count();
+    assert!(named(&crossings, |d| matches!(d, Defect::SelfIntersection { .. })) > 0);
+    assert_eq!(
+        misnested,
+        [Defect::MisnestedShell {
+            face: wmslice::FaceId(4),
+            facing: ShellFacing::Outward,
+            winding: 1,
+        }]
+    );
     let (folds, slivers) = (validate(&tetra).defects, validate(&sliver).defects);
     assert!(!folds.is_empty() && !slivers.is_empty());
     let flips = repair_degenerate(&sliver).flips;
@@ -339,5 +365,31 @@ fn defects_and_flips_are_the_same_at_every_scale() {
         let big = scaled_mesh(&sliver, k);
         assert_eq!(validate(&big).defects, slivers, "2^{k}");
         assert_eq!(repair_degenerate(&big).flips, flips, "2^{k}");
+        // The outer tetrahedron's corner 8 is 2^3: one binade less.
+        let k = k.min(1020);
+        assert_eq!(
+            validate(&scaled_mesh(&overlapping, k)).defects,
+            crossings,
+            "2^{k}"
+        );
+        assert_eq!(
+            validate(&scaled_mesh(&nested, k)).defects,
+            misnested,
+            "2^{k}"
+        );
     }
+}
+
+/// The unit tetrahedron twice (vertices 0..4 and 4..8), facing out.
+fn tetra_pair() -> Mesh {
+    let corners = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]];
+    let faces = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+    Mesh::from_raw(
+        corners.iter().chain(&corners).copied().collect(),
+        faces
+            .iter()
+            .chain(&faces.map(|t| t.map(|v| v + 4)))
+            .copied()
+            .collect(),
+    )
 }

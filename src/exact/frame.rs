@@ -22,6 +22,14 @@ use super::scale::{leading_exponent, times_pow2};
 /// them. A range of the filters' proofs, not a tolerance.
 const UNSCALED: std::ops::RangeInclusive<i32> = -200..=200;
 
+/// The leading exponents `e` (`2^e <= |x| < 2^(e+1)`) of coordinates that
+/// every exact predicate and filter takes as they are, with no scaling or
+/// range check of its own: the static filters' vouched range
+/// ([`super::orient_filter::Filter`], `[2^-247, 2^299]`), inside `robust`'s
+/// windows ([`super::predicates`]: `[2^-248, 2^300)` for orient3d, wider
+/// for orient2d). A range of their proofs, not a tolerance.
+pub const PREDICATE_RANGE: std::ops::RangeInclusive<i32> = -247..=298;
+
 /// Multiplication by `2^shift`, chosen once per mesh.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Frame {
@@ -50,6 +58,37 @@ impl Frame {
             .filter(|v| v.is_finite())
             .fold(0.0f64, |m, v| m.max(v.abs()));
         Frame::for_magnitude(top)
+    }
+
+    /// A frame in which every non-zero coordinate of `points` has a
+    /// magnitude within [`PREDICATE_RANGE`], where the exact predicates
+    /// and the filters take coordinates as they are: the identity when
+    /// they already do, else the shift nearest to bringing the largest
+    /// magnitude into `[1, 2)` ([`Frame::for_magnitude`]'s choice). `None`
+    /// when no shift does (the coordinates span more binades than the
+    /// range, or one is not finite), or every coordinate is zero. Placing a
+    /// coordinate in the frame is then exact: its result is a normal
+    /// double.
+    pub fn for_predicates(points: &[[f64; 3]]) -> Option<Frame> {
+        let mut span: Option<(i32, i32)> = None;
+        for &x in points.iter().flatten() {
+            if !x.is_finite() {
+                return None;
+            }
+            if let Some(e) = leading_exponent(x) {
+                span = Some(span.map_or((e, e), |(l, h)| (l.min(e), h.max(e))));
+            }
+        }
+        let (low, high) = span?;
+        // Shifts s with low + s >= range.start and high + s <= range.end.
+        let (from, to) = (PREDICATE_RANGE.start() - low, PREDICATE_RANGE.end() - high);
+        (from <= to).then(|| Frame {
+            shift: if (from..=to).contains(&0) {
+                0
+            } else {
+                (-high).clamp(from, to)
+            },
+        })
     }
 
     /// Whether this frame leaves every value as it is.
@@ -147,6 +186,62 @@ mod tests {
         assert_eq!(Frame::for_magnitude(1e300).shift(), -996);
         assert_eq!(Frame::for_magnitude(-f64::MAX).shift(), -1023);
         assert_eq!(Frame::for_magnitude(5e-324).shift(), 1074);
+    }
+
+    #[test]
+    fn predicate_frames_by_hand() {
+        let frame = |ps: &[[f64; 3]]| Frame::for_predicates(ps).map(Frame::shift);
+        // In the range already (3.6e-16 is near 2^-51): the identity.
+        assert_eq!(frame(&[[40.0, -3.6e-16, 0.0], [1e80, 1e-70, 2.0]]), Some(0));
+        // The largest brought into [1, 2) when the rest follows.
+        assert_eq!(frame(&[[1e-300, 0.0, 3e-310]]), Some(997));
+        assert_eq!(frame(&[[1e300, -1e250, 0.0]]), Some(-996));
+        // 2^-700 and 2^-300: the least no lower than 2^-247 takes the
+        // shift 453, which leaves the largest at 2^153 (not in [1, 2)).
+        let (tiny, small) = (times_pow2(1.0, -700), times_pow2(1.0, -300));
+        assert_eq!(frame(&[[tiny, small, 0.0]]), Some(453));
+        // No shift brings 2^-600 and 2^0 into 546 binades; nothing to
+        // place; not finite.
+        assert_eq!(frame(&[[times_pow2(1.0, -600), 1.0, 0.0]]), None);
+        assert_eq!(frame(&[[0.0; 3]]), None);
+        assert_eq!(frame(&[]), None);
+        assert_eq!(frame(&[[1.0, f64::NAN, 0.0]]), None);
+        assert_eq!(frame(&[[1e-300, f64::INFINITY, 0.0]]), None);
+    }
+
+    proptest! {
+        /// A predicate frame places every coordinate exactly in
+        /// [`PREDICATE_RANGE`], is the identity when they are there, and
+        /// is refused only when their binades span more than the range.
+        #[test]
+        fn predicate_frames_place_exactly_in_range(
+            exps in proptest::collection::vec((-1074i32..=1023, any::<u64>(), any::<bool>()), 1..12),
+        ) {
+            let xs: Vec<f64> = exps
+                .iter()
+                .map(|&(e, bits, zero)| {
+                    let x = f64::from_bits(bits & ((1 << 63) | ((1 << 52) - 1)) | (1023 << 52));
+                    if zero { 0.0 } else { times_pow2(x, e.min(1023)) }
+                })
+                .collect();
+            let points: Vec<[f64; 3]> = xs.chunks(3).map(|c| std::array::from_fn(|i| c.get(i).copied().unwrap_or(0.0))).collect();
+            let leads: Vec<i32> = xs.iter().filter_map(|&x| leading_exponent(x)).collect();
+            match Frame::for_predicates(&points) {
+                Some(frame) => {
+                    let in_range = |e: &i32| PREDICATE_RANGE.contains(e);
+                    prop_assert_eq!(frame.is_identity(), leads.iter().all(in_range));
+                    for &x in &xs {
+                        let p = frame.place(x);
+                        prop_assert_eq!(rat_from_f64(p), frame.scale(&rat_from_f64(x)));
+                        prop_assert!(x == 0.0 || leading_exponent(p).is_some_and(|e| in_range(&e)));
+                    }
+                }
+                None => {
+                    let (lo, hi) = (leads.iter().min(), leads.iter().max());
+                    prop_assert!(lo.is_none() || hi.unwrap() - lo.unwrap() > PREDICATE_RANGE.end() - PREDICATE_RANGE.start());
+                }
+            }
+        }
     }
 
     proptest! {

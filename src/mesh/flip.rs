@@ -370,7 +370,9 @@ pub fn repair_degenerate(mesh: &Mesh) -> Repaired<'_> {
     if !sound {
         return unchanged(mesh);
     }
-    let mut pending = degenerate_faces(mesh);
+    // Found where the predicates need not scale (the flips below, on the
+    // few faces found, use the mesh as it is).
+    let mut pending = degenerate_faces(&mesh.in_predicate_frame());
     if pending.is_empty() {
         return unchanged(mesh);
     }

@@ -15,7 +15,9 @@ pub mod topology;
 pub mod validate;
 pub mod weld;
 
+use crate::exact::frame::Frame;
 use crate::ids::VertexId;
+use std::borrow::Cow;
 
 /// A triangle mesh as read: positions and faces, not yet validated.
 ///
@@ -71,5 +73,26 @@ impl Mesh {
     #[inline]
     pub fn pos(&self, v: VertexId) -> [f64; 3] {
         self.positions[v.idx()]
+    }
+
+    /// This mesh where the exact predicates take it fastest: every
+    /// coordinate multiplied by one power of two
+    /// ([`Frame::for_predicates`]) when some lies outside their range and
+    /// such a frame exists, else the mesh itself. Exact (each placed
+    /// coordinate is a normal double), so every orientation, comparison
+    /// and equality of coordinates has the mesh's sign; lengths, areas and
+    /// volumes are scaled.
+    pub fn in_predicate_frame(&self) -> Cow<'_, Mesh> {
+        match Frame::for_predicates(&self.positions) {
+            Some(frame) if !frame.is_identity() => Cow::Owned(Mesh {
+                positions: self
+                    .positions
+                    .iter()
+                    .map(|p| p.map(|x| frame.place(x)))
+                    .collect(),
+                faces: self.faces.clone(),
+            }),
+            _ => Cow::Borrowed(self),
+        }
     }
 }

@@ -515,6 +515,9 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
         .positions
         .iter()
         .all(|p| p.iter().all(|x| x.is_finite()));
+    // The geometric passes decide signs only, the same in a frame where
+    // no predicate scales its coordinates itself (a mesh at `1e-300`).
+    let framed = mesh.in_predicate_frame();
     // The topology's build is the longest chain; the passes that do not
     // need it run beside it.
     let ((volume, degenerate), (topo, issues)) = par::join(
@@ -528,7 +531,7 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
                 },
                 || {
                     if finite {
-                        degenerate_faces(mesh)
+                        degenerate_faces(&framed)
                     } else {
                         Vec::new()
                     }
@@ -572,14 +575,15 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
         || shells(mesh, &topo),
         || {
             if geometric {
-                let (edges, apart) = face_pairs(mesh, &topo, MAX_LISTED_DEFECTS, MAX_COUNTED_PAIRS);
+                let (edges, apart) =
+                    face_pairs(&framed, &topo, MAX_LISTED_DEFECTS, MAX_COUNTED_PAIRS);
                 (edges, Some(apart))
             } else {
                 (Vec::new(), None)
             }
         },
     );
-    let degenerate = diagnose(mesh, &degenerate)
+    let degenerate = diagnose(&framed, &degenerate)
         .into_iter()
         .map(|(face, why)| Defect::DegenerateFace { face, why });
     for d in degenerate {
@@ -622,7 +626,7 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
         sink.push(Defect::SelfIntersection { a, b });
     }
     if disjoint {
-        for m in misnested_shells(mesh, &shells) {
+        for m in misnested_shells(&framed, &shells) {
             sink.push(Defect::MisnestedShell {
                 face: m.face,
                 facing: m.facing,
