@@ -188,6 +188,8 @@ mod tests {
         assert_eq!(Frame::for_magnitude(5e-324).shift(), 1074);
     }
 
+    /// Shifts derived by hand from the inputs' leading exponents (the
+    /// coordinates are test inputs, the range is [`PREDICATE_RANGE`]).
     #[test]
     fn predicate_frames_by_hand() {
         let frame = |ps: &[[f64; 3]]| Frame::for_predicates(ps).map(Frame::shift);

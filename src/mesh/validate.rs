@@ -516,7 +516,8 @@ fn validate_with(mesh: &Mesh, need: VolumeNeed) -> (Report, bool) {
         .iter()
         .all(|p| p.iter().all(|x| x.is_finite()));
     // The geometric passes decide signs only, the same in a frame where
-    // no predicate scales its coordinates itself (a mesh at `1e-300`).
+    // no predicate scales its coordinates itself (as each would, call by
+    // call, for a mesh whose coordinates lie near `1e-300` or `1e300`).
     let framed = mesh.in_predicate_frame();
     // The topology's build is the longest chain; the passes that do not
     // need it run beside it.

@@ -549,12 +549,14 @@ impl<'m> Bvh<'m> {
         let first = 1usize << height;
         let mut leaves = vec![Leaf::EMPTY; n_leaves];
         let mut slabs = vec![Slabs::EMPTY; 2 * first];
+        let mut corner_sums = vec![[0.0; 3]; n_leaves];
         leaves
             .par_iter_mut()
             .zip(&mut slabs[first..first + n_leaves])
+            .zip(&mut corner_sums)
             .with_min_len(min_len / LEAF)
             .zip(order.par_chunks(LEAF))
-            .for_each(|((leaf, d), ts)| {
+            .for_each(|(((leaf, d), sum), ts)| {
                 for (s, &t) in ts.iter().enumerate() {
                     let b = &boxes[t as usize];
                     for (k, v) in tris[t as usize].iter().enumerate() {
@@ -565,28 +567,14 @@ impl<'m> Bvh<'m> {
                     leaf.group[s] = group(t as usize);
                     leaf.face[s] = t;
                 }
-                *d = Slabs::around(
+                let corners = || {
                     ts.iter()
-                        .flat_map(|&t| frame.place_all(tris[t as usize].map(|v| mesh.pos(v)))),
-                );
+                        .flat_map(|&t| tris[t as usize].map(|v| mesh.pos(v)))
+                };
+                *d = Slabs::around(corners().map(|p| frame.place_all([p])[0]));
+                *sum = corners().fold([0.0; 3], |s, p| std::array::from_fn(|c| s[c] + p[c]));
             });
         drop(boxes);
-        let corner_sums = leaves
-            .par_iter()
-            .with_min_len(min_len / LEAF)
-            .enumerate()
-            .map(|(i, leaf)| {
-                let filled = order.len().saturating_sub(i * LEAF).min(LEAF);
-                (0..filled).fold([0.0; 3], |sum, s| {
-                    std::array::from_fn(|c| {
-                        sum[c]
-                            + (0..3)
-                                .map(|k| mesh.positions[leaf.v[k][s] as usize][c])
-                                .sum::<f64>()
-                    })
-                })
-            })
-            .collect();
         let mut nodes = vec![Bounds::EMPTY; 2 * first];
         let mut tags = vec![NO_GROUP; 2 * first];
         let mut hubs = vec![NO_HUB; 2 * first];
@@ -963,7 +951,7 @@ impl<'m> Bvh<'m> {
     /// The leaves (filled) under node `n` of height `h`.
     fn leaves_of(&self, n: usize, h: u32) -> std::ops::Range<usize> {
         let first = (n << h) - (1 << self.height);
-        first..(first + (1 << h)).min(self.len.div_ceil(LEAF))
+        first..(first + (1 << h)).min(self.leaves.len())
     }
 
     /// The centroid of the corners other than `hub` (at `a`) of the
