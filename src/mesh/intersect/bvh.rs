@@ -1386,6 +1386,49 @@ mod tests {
         m
     }
 
+    /// The pairs the tree hands its test on `mesh`, and how many pairs of
+    /// faces have volumes that meet, after checking that the first are
+    /// among the second and that none of the others (those a plane set
+    /// apart) meets (exact test).
+    fn tested_and_meeting(mesh: &Mesh) -> (Vec<(FaceId, FaceId)>, usize) {
+        let tested = candidates(mesh);
+        let meeting = all_meeting(mesh, None);
+        assert!(tested.iter().all(|p| meeting.binary_search(p).is_ok()));
+        let face = |f: FaceId| mesh.faces[f.idx()].map(|v| mesh.pos(v));
+        let filter = crate::exact::orient_filter::Filter::CHECKING;
+        for &(a, b) in meeting.iter().filter(|p| tested.binary_search(p).is_err()) {
+            assert!(
+                !super::super::narrow::faces_meet(filter, face(a), face(b)),
+                "{a:?} {b:?}"
+            );
+        }
+        (tested, meeting.len())
+    }
+
+    /// `a` and `b` side by side in one mesh, `b` moved by `d`.
+    fn joined(a: &Mesh, b: &Mesh, d: [f64; 3]) -> Mesh {
+        let mut m = a.clone();
+        let n = a.positions.len() as u32;
+        m.positions.extend(
+            b.positions
+                .iter()
+                .map(|p| std::array::from_fn(|k| p[k] + d[k])),
+        );
+        m.faces
+            .extend(b.faces.iter().map(|t| t.map(|v| VertexId(v.0 + n))));
+        m
+    }
+
+    /// The pairs of faces of `mesh` (closed, manifold) that meet improperly
+    /// as the search finds them, checked against testing every pair.
+    fn found_by_search_and_by_all_pairs(mesh: &Mesh) -> Vec<(FaceId, FaceId)> {
+        let (topo, issues) = crate::mesh::topology::Topology::build(mesh);
+        assert!(issues.is_empty(), "{issues:?}");
+        let every = super::super::tests::all_pairs(mesh);
+        assert_eq!(super::super::self_intersections(mesh, &topo), every);
+        every
+    }
+
     /// A capped cone turned away from the axes: every face's box holds a
     /// stretch of the axis, and so do the diagonals, so boxes and extents
     /// meet for most pairs of a side face and a base face. The fans' plane
@@ -1398,28 +1441,8 @@ mod tests {
     #[test]
     fn a_turned_capped_cone_tests_few_pairs() {
         let tested = |n: u32| candidates(&turned(&capped_cone(n)));
-        let cone = turned(&capped_cone(2000));
-        let few = tested(2000);
-        let meeting = all_meeting(&cone, None);
-        assert!(few.iter().all(|p| meeting.binary_search(p).is_ok()));
-        let skipped: Vec<_> = meeting
-            .iter()
-            .filter(|p| few.binary_search(p).is_err())
-            .collect();
-        assert!(
-            2 * few.len() < meeting.len(),
-            "{} of {}",
-            few.len(),
-            meeting.len()
-        );
-        let face = |f: FaceId| cone.faces[f.idx()].map(|v| cone.pos(v));
-        let filter = crate::exact::orient_filter::Filter::CHECKING;
-        for &&(a, b) in &skipped {
-            assert!(
-                !super::super::narrow::faces_meet(filter, face(a), face(b)),
-                "{a:?} {b:?}"
-            );
-        }
+        let (few, meeting) = tested_and_meeting(&turned(&capped_cone(2000)));
+        assert!(2 * few.len() < meeting, "{} of {meeting}", few.len());
         let more = tested(8000).len();
         assert!(
             more < 10 * few.len(),
@@ -1433,22 +1456,10 @@ mod tests {
     /// testing all pairs finds.
     #[test]
     fn crossing_fans_are_not_set_apart() {
-        let cone = capped_cone(64);
-        let mut two = cone.clone();
-        let n = cone.positions.len() as u32;
-        two.positions.extend(
-            cone.positions
-                .iter()
-                .map(|p| [p[0] + 0.5, p[1] + 0.25, p[2] + 0.5]),
-        );
-        two.faces
-            .extend(cone.faces.iter().map(|t| t.map(|v| VertexId(v.0 + n))));
-        let two = turned(&two);
-        let (topo, issues) = crate::mesh::topology::Topology::build(&two);
-        assert!(issues.is_empty(), "{issues:?}");
-        let every = super::super::tests::all_pairs(&two);
+        let one = capped_cone(64);
+        let two = turned(&joined(&one, &one, [0.5, 0.25, 0.5]));
+        let every = found_by_search_and_by_all_pairs(&two);
         assert!(every.len() > 50, "{}", every.len());
-        assert_eq!(super::super::self_intersections(&two, &topo), every);
     }
 
     /// A cylinder of radius 1 and height `height` over a regular `n`-gon
@@ -1489,28 +1500,8 @@ mod tests {
     #[test]
     fn a_turned_tall_cylinder_tests_few_pairs() {
         let tested = |n: u32| candidates(&turned(&capped_cylinder(n, 100.0)));
-        let cylinder = turned(&capped_cylinder(1000, 100.0));
-        let few = tested(1000);
-        let meeting = all_meeting(&cylinder, None);
-        assert!(few.iter().all(|p| meeting.binary_search(p).is_ok()));
-        let skipped: Vec<_> = meeting
-            .iter()
-            .filter(|p| few.binary_search(p).is_err())
-            .collect();
-        assert!(
-            5 * few.len() < meeting.len(),
-            "{} of {}",
-            few.len(),
-            meeting.len()
-        );
-        let face = |f: FaceId| cylinder.faces[f.idx()].map(|v| cylinder.pos(v));
-        let filter = crate::exact::orient_filter::Filter::CHECKING;
-        for &&(a, b) in &skipped {
-            assert!(
-                !super::super::narrow::faces_meet(filter, face(a), face(b)),
-                "{a:?} {b:?}"
-            );
-        }
+        let (few, meeting) = tested_and_meeting(&turned(&capped_cylinder(1000, 100.0)));
+        assert!(5 * few.len() < meeting, "{} of {meeting}", few.len());
         let more = tested(4000).len();
         assert!(
             more < 8 * few.len(),
@@ -1572,23 +1563,10 @@ mod tests {
     /// pair that testing all pairs finds.
     #[test]
     fn crossing_strips_are_not_set_apart() {
-        let cylinder = capped_cylinder(48, 20.0);
-        let mut two = cylinder.clone();
-        let n = cylinder.positions.len() as u32;
-        two.positions.extend(
-            cylinder
-                .positions
-                .iter()
-                .map(|p| [p[0] + 0.5, p[1] + 0.25, p[2] + 0.5]),
-        );
-        two.faces
-            .extend(cylinder.faces.iter().map(|t| t.map(|v| VertexId(v.0 + n))));
-        let two = turned(&two);
-        let (topo, issues) = crate::mesh::topology::Topology::build(&two);
-        assert!(issues.is_empty(), "{issues:?}");
-        let every = super::super::tests::all_pairs(&two);
+        let one = capped_cylinder(48, 20.0);
+        let two = turned(&joined(&one, &one, [0.5, 0.25, 0.5]));
+        let every = found_by_search_and_by_all_pairs(&two);
         assert!(every.len() > 50, "{}", every.len());
-        assert_eq!(super::super::self_intersections(&two, &topo), every);
     }
 
     /// 300 small triangles (sides up to 4/64) at random places on the
@@ -1669,20 +1647,6 @@ mod tests {
         assert_eq!(all, reference);
     }
 
-    /// `a` and `b` side by side in one mesh, `b` moved by `d`.
-    fn joined(a: &Mesh, b: &Mesh, d: [f64; 3]) -> Mesh {
-        let mut m = a.clone();
-        let n = a.positions.len() as u32;
-        m.positions.extend(
-            b.positions
-                .iter()
-                .map(|p| std::array::from_fn(|k| p[k] + d[k])),
-        );
-        m.faces
-            .extend(b.faces.iter().map(|t| t.map(|v| VertexId(v.0 + n))));
-        m
-    }
-
     proptest::proptest! {
         #![proptest_config(proptest::prelude::ProptestConfig::with_cases(40))]
 
@@ -1704,13 +1668,7 @@ mod tests {
                 let cylinder = capped_cylinder(sections[m], heights[m]);
                 rotated(&cylinder, a.map(|x| x / norm), angles[m].cos(), angles[m].sin())
             };
-            let two = joined(&turn(0), &turn(1), d);
-            let (topo, issues) = crate::mesh::topology::Topology::build(&two);
-            proptest::prop_assert!(issues.is_empty(), "{:?}", issues);
-            proptest::prop_assert_eq!(
-                super::super::self_intersections(&two, &topo),
-                super::super::tests::all_pairs(&two)
-            );
+            found_by_search_and_by_all_pairs(&joined(&turn(0), &turn(1), d));
         }
     }
 
