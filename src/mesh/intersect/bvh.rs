@@ -671,9 +671,9 @@ impl<'m> Bvh<'m> {
     /// Calls `test` on every pair of triangles (each named by its position
     /// in the input, as a [`FaceId`]) with no shared vertex id, not in one
     /// group, whose volumes meet, but the pairs of fans and strips set
-    /// apart ([`Bvh::fans_apart`], [`Bvh::strips_apart`]), and collects the pairs it accepts, each
-    /// counted on `stop`; once `stop` is reached, stops early (the pairs
-    /// collected are then some of them).
+    /// apart ([`Bvh::fans_apart`], [`Bvh::strips_apart`]), and collects
+    /// the pairs it accepts, each counted on `stop`; once `stop` is
+    /// reached, stops early (the pairs collected are then some of them).
     #[inline(never)]
     pub(super) fn pairs<T>(&self, test: &T, keep: usize, stop: &Stop) -> Found
     where
@@ -993,10 +993,9 @@ impl<'m> Bvh<'m> {
 
     /// Whether nodes `i` and `j` of height `h`, two strips (see
     /// [`Bvh::strips`]) whose boxes overlap deeply, neither a fan (whose
-    /// pairs [`Bvh::fans_apart`] tries), are set apart
-    /// by the plane between their centroids that holds the longest edge of
-    /// either's leaf nearest the other (exact signs, as in
-    /// [`Bvh::apart_by`]). Long faces turned away from the axes, such as
+    /// pairs [`Bvh::fans_apart`] tries), are set apart by the plane between
+    /// their centroids that holds the longest edge of either's leaf nearest
+    /// the other (exact signs, as in [`Bvh::apart_by`]). Long faces turned away from the axes, such as
     /// the sides of a tall cylinder (every face runs from end to end),
     /// have boxes and diagonal extents that all meet; two strips of such
     /// faces are set apart by a plane along them wherever they share no
@@ -1119,10 +1118,7 @@ impl<'m> Bvh<'m> {
     /// The centroid of the corners other than `hub` (at `a`) of the
     /// triangles in `leaves`, each of which has it once (approximate).
     fn rim_centre(&self, leaves: std::ops::Range<usize>, a: [f64; 3]) -> [f64; 3] {
-        let faces: usize = leaves.clone().map(|l| self.filled(l)).sum();
-        let sum = leaves.fold([0.0; 3], |s, l| {
-            std::array::from_fn(|c| s[c] + self.corner_sums[l][c])
-        });
+        let (sum, faces) = self.corner_sum(leaves);
         let k = 1.0 / (2 * faces.max(1)) as f64;
         std::array::from_fn(|c| (sum[c] - faces as f64 * a[c]) * k)
     }
@@ -1143,11 +1139,18 @@ impl<'m> Bvh<'m> {
     /// The centroid of the corners of the triangles in `leaves`
     /// (approximate).
     fn centroid(&self, leaves: std::ops::Range<usize>) -> [f64; 3] {
-        let corners: usize = leaves.clone().map(|l| 3 * self.filled(l)).sum();
+        let (sum, faces) = self.corner_sum(leaves);
+        sum.map(|x| x / (3 * faces.max(1)) as f64)
+    }
+
+    /// The sum of the corners of the triangles in `leaves` (rounded), and
+    /// how many triangles there are.
+    fn corner_sum(&self, leaves: std::ops::Range<usize>) -> ([f64; 3], usize) {
+        let faces = leaves.clone().map(|l| self.filled(l)).sum();
         let sum = leaves.fold([0.0; 3], |s, l| {
             std::array::from_fn(|c| s[c] + self.corner_sums[l][c])
         });
-        sum.map(|x| x / corners.max(1) as f64)
+        (sum, faces)
     }
 
     /// The longest edge (rounded difference of its ends) of the triangles
