@@ -420,7 +420,7 @@ pub(super) struct Bvh<'m> {
     /// faces that meet, so they are not descended.
     slabs: Vec<Slabs>,
     /// Per leaf, the sum of its triangles' corners (rounded, for the
-    /// heuristics of [`Bvh::fans_apart`] only).
+    /// heuristics of [`Bvh::fans_apart`] and [`Bvh::strips_apart`] only).
     corner_sums: Vec<[f64; 3]>,
     /// Per node, the group all its triangles are in, or [`NO_GROUP`].
     tags: Vec<u32>,
