@@ -430,8 +430,9 @@ pub(super) struct Bvh<'m> {
     hubs: Vec<u32>,
     /// Per node, whether it is a strip: its box is not flat (no side below
     /// `2^-10` of the longest: walls meeting at a corner are not strips)
-    /// and some triangle's box has a side of at least three quarters of
-    /// the longest ([`Bvh::strips_apart`]).
+    /// and every triangle's box has a side of at least three quarters of
+    /// the longest (not so a node of CAD faces with one sliver across it)
+    /// ([`Bvh::strips_apart`]).
     strips: Vec<bool>,
     height: u32,
     parallel: bool,
@@ -612,8 +613,8 @@ impl<'m> Bvh<'m> {
         let mut nodes = vec![Bounds::EMPTY; 2 * first];
         let mut tags = vec![NO_GROUP; 2 * first];
         let mut hubs = vec![NO_HUB; 2 * first];
-        // Per node, the longest side of its triangles' boxes.
-        let mut reach = vec![0f32; 2 * first];
+        // Per node, the shortest of its triangles' boxes' longest sides.
+        let mut reach = vec![f32::INFINITY; 2 * first];
         nodes[first..first + n_leaves]
             .par_iter_mut()
             .zip(&mut tags[first..first + n_leaves])
@@ -623,7 +624,8 @@ impl<'m> Bvh<'m> {
             .zip(leaves.par_iter().zip(order.par_chunks(LEAF)))
             .for_each(|((((n, tag), hub), reach), (leaf, ts))| {
                 *n = (0..ts.len()).fold(Bounds::EMPTY, |b, s| b.union(&leaf.bounds(s)));
-                *reach = (0..ts.len()).fold(0f32, |r, s| r.max(leaf.bounds(s).longest_side()));
+                *reach =
+                    (0..ts.len()).fold(f32::INFINITY, |r, s| r.min(leaf.bounds(s).longest_side()));
                 if leaf.group[..ts.len()].iter().all(|&g| g == leaf.group[0]) {
                     *tag = leaf.group[0];
                 }
@@ -642,7 +644,7 @@ impl<'m> Bvh<'m> {
             if hubs[2 * n] == hubs[2 * n + 1] {
                 hubs[n] = hubs[2 * n];
             }
-            reach[n] = reach[2 * n].max(reach[2 * n + 1]);
+            reach[n] = reach[2 * n].min(reach[2 * n + 1]);
         }
         let strips = nodes
             .iter()
