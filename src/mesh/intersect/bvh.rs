@@ -1506,13 +1506,13 @@ mod tests {
     /// volumes meet, and none meets (exact test); and the pairs tested no
     /// longer grow with the square of the faces (with boxes and extents
     /// alone, every pair of side faces that share no vertex is tested:
-    /// 1 995 000 at 1 000 sections; with the plane 364 000, and 1 592 000
+    /// 1 995 000 at 1 000 sections; with the plane 374 000, and 1 592 000
     /// at 4 000). Turned instead so that its axis is nearly in the plane
     /// `y = 0` (`(0.6, 0.01, 0.8)`, normalized: every node's box is thin
     /// along y, and the leaves in Morton order hold arcs from both sides
     /// of the circle), fewer pairs meet and the plane sets fewer apart
-    /// (641 000 of 1 258 000), but the growth is still far from square
-    /// (3 329 000 at 4 000 sections).
+    /// (669 000 of 1 258 000), but the growth is still far from square
+    /// (3 473 000 at 4 000 sections).
     #[test]
     fn a_turned_tall_cylinder_tests_few_pairs() {
         let (k, c): ([f64; 3], f64) = ([-0.01, 0.6, 0.0], 0.8 / 1.00005f64.sqrt());
