@@ -1516,7 +1516,7 @@ mod tests {
     #[test]
     fn a_turned_tall_cylinder_tests_few_pairs() {
         let (k, c): ([f64; 3], f64) = ([-0.01, 0.6, 0.0], 0.8 / 1.00005f64.sqrt());
-        let norm = (k[0] * k[0] + k[1] * k[1]).sqrt();
+        let norm = dot(k, k).sqrt();
         let nearly = |m: &Mesh| rotated(m, k.map(|x| x / norm), c, (1.0 - c * c).sqrt());
         for (turn, part) in [(&turned as &dyn Fn(&Mesh) -> Mesh, 5), (&nearly, 1)] {
             let tested = |n: u32| candidates(&turn(&capped_cylinder(n, 100.0)));
@@ -1684,10 +1684,12 @@ mod tests {
             d in proptest::array::uniform3(-2.5f64..2.5),
         ) {
             let turn = |m: usize| {
-                let a = axes[m];
-                let norm = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt().max(1e-3);
+                // The test input's axis: the one drawn, made unit length
+                // (rounded; any axis will do), or z when it is zero.
+                let (a, norm) = (axes[m], dot(axes[m], axes[m]).sqrt());
+                let k = if norm > 0.0 { a.map(|x| x / norm) } else { [0.0, 0.0, 1.0] };
                 let cylinder = capped_cylinder(sections[m], heights[m]);
-                rotated(&cylinder, a.map(|x| x / norm), angles[m].cos(), angles[m].sin())
+                rotated(&cylinder, k, angles[m].cos(), angles[m].sin())
             };
             found_by_search_and_by_all_pairs(&joined(&turn(0), &turn(1), d));
         }
