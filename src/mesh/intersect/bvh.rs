@@ -1812,6 +1812,18 @@ mod tests {
         assert_eq!(all, reference);
     }
 
+    /// `mesh` turned by `angle` about `axis` made unit length (rounded:
+    /// test input, any axis will do), or about z when it is zero.
+    fn turned_about(mesh: &Mesh, axis: [f64; 3], angle: f64) -> Mesh {
+        let norm = dot(axis, axis).sqrt();
+        let k = if norm > 0.0 {
+            axis.map(|x| x / norm)
+        } else {
+            [0.0, 0.0, 1.0]
+        };
+        rotated(mesh, k, angle.cos(), angle.sin())
+    }
+
     proptest::proptest! {
         #![proptest_config(proptest::prelude::ProptestConfig::with_cases(40))]
 
@@ -1828,12 +1840,7 @@ mod tests {
             d in proptest::array::uniform3(-2.5f64..2.5),
         ) {
             let turn = |m: usize| {
-                // The test input's axis: the one drawn, made unit length
-                // (rounded; any axis will do), or z when it is zero.
-                let (a, norm) = (axes[m], dot(axes[m], axes[m]).sqrt());
-                let k = if norm > 0.0 { a.map(|x| x / norm) } else { [0.0, 0.0, 1.0] };
-                let cylinder = capped_cylinder(sections[m], heights[m]);
-                rotated(&cylinder, k, angles[m].cos(), angles[m].sin())
+                turned_about(&capped_cylinder(sections[m], heights[m]), axes[m], angles[m])
             };
             found_by_search_and_by_all_pairs(&joined(&turn(0), &turn(1), d));
         }
@@ -1855,14 +1862,12 @@ mod tests {
             d in proptest::array::uniform3(-0.3f64..0.3),
         ) {
             let turn = |m: usize| {
-                let (a, norm) = (axes[m], dot(axes[m], axes[m]).sqrt());
-                let k = if norm > 0.0 { a.map(|x| x / norm) } else { [0.0, 0.0, 1.0] };
                 let n = sections[m] as usize;
                 let mut disc = capped_cylinder(sections[m], heights[m]);
                 for p in disc.positions[n..2 * n].iter_mut().step_by(2) {
                     p[2] -= lowered[m];
                 }
-                rotated(&disc, k, angles[m].cos(), angles[m].sin())
+                turned_about(&disc, axes[m], angles[m])
             };
             found_by_search_and_by_all_pairs(&joined(&turn(0), &turn(1), d));
         }
