@@ -996,10 +996,11 @@ impl<'m> Bvh<'m> {
     }
 
     /// Whether nodes `i` and `j` of height `h`, two strips (see
-    /// [`Bvh::strips`]) whose boxes overlap deeply, neither a fan (whose
-    /// pairs [`Bvh::fans_apart`] tries), are set apart by the plane between
-    /// their centroids that holds the longest edge of either's leaf nearest
-    /// the other (exact signs, as in [`Bvh::apart_by`]). Long faces turned away from the axes, such as
+    /// [`Bvh::strips`]) whose boxes overlap deeply, neither a fan with one
+    /// hub (whose pairs [`Bvh::fans_apart`] tries), are set apart by the
+    /// plane between their centroids that holds the longest edge of
+    /// either's leaf nearest the other (exact signs, as in
+    /// [`Bvh::apart_by`]). Long faces turned away from the axes, such as
     /// the sides of a tall cylinder (every face runs from end to end),
     /// have boxes and diagonal extents that all meet; two strips of such
     /// faces are set apart by a plane along them wherever they share no
@@ -1242,9 +1243,12 @@ impl Hubs {
     /// the mesh (`valence`), so that two leaves of the same two fans get
     /// the same hubs (a heuristic: any pair is true of the leaf).
     fn of_leaf(leaf: &Leaf, n: usize, valence: &[u16]) -> Hubs {
+        if n == 0 {
+            return Hubs::NONE;
+        }
         let has = |s: usize, v: u32| (0..3).any(|k| leaf.v[k][s] == v);
         let mut two = (Hubs::NONE, 0);
-        for k in (0..3).take_while(|_| n > 0) {
+        for k in 0..3 {
             let a = leaf.v[k][0];
             // The triangles before the first without `a` all have it.
             let Some(s) = (1..n).find(|&s| !has(s, a)) else {
