@@ -11,12 +11,14 @@
 //!   edge's line) as self-intersections;
 //! - one vertex: the non-neighbouring faces of its fan (`fan.rs`), skipped
 //!   for a fan that projects as a star;
-//! - none: the pairs whose closed bounding boxes meet (`bvh.rs`), each
-//!   tested exactly (`narrow.rs`); touching counts, so two bodies that
-//!   touch at a point without sharing a vertex id self-intersect. Pairs
-//!   within one certified flat patch (`patch.rs`: a planar region whose
-//!   faces are proven not to overlap from its boundary) are skipped, once
-//!   the fans have shown that faces sharing a vertex meet properly.
+//! - none: the pairs whose closed bounding boxes meet (`bvh.rs`; along
+//!   the mesh's own axes when one plane dominates it off the axes,
+//!   `turn.rs`), each tested exactly (`narrow.rs`); touching counts, so
+//!   two bodies that touch at a point without sharing a vertex id
+//!   self-intersect. Pairs within one certified flat patch (`patch.rs`: a
+//!   planar region whose faces are proven not to overlap from its
+//!   boundary) are skipped, once the fans have shown that faces sharing a
+//!   vertex meet properly.
 //!
 //! Every decision is exact, with no tolerance: signs come from the exact
 //! predicates, or from floating-point filters only where their proven
@@ -44,6 +46,7 @@ mod patch;
 mod patch_tests;
 #[cfg(test)]
 mod tests;
+mod turn;
 
 pub use narrow::EdgeOverlap;
 

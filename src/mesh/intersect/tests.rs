@@ -531,3 +531,73 @@ proptest! {
         prop_assert!(self_intersections(&ma, &Topology::build(&ma).0).is_empty());
     }
 }
+
+/// The rows of the rotation by `angle` about `axis` (rounded).
+fn rotation(angle: f64, axis: [f64; 3]) -> [[f64; 3]; 3] {
+    let n = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
+    let [x, y, z] = axis.map(|c| c / n);
+    let (s, c) = angle.sin_cos();
+    let t = 1.0 - c;
+    [
+        [t * x * x + c, t * x * y - s * z, t * x * z + s * y],
+        [t * x * y + s * z, t * y * y + c, t * y * z - s * x],
+        [t * x * z - s * y, t * y * z + s * x, t * z * z + c],
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// Two flat plates of long thin faces, turned off the axes together (a
+    /// plate exported in its assembly's frame, rounded), the second moved
+    /// by a small step (often into the first) and then, often, one of its
+    /// corners put exactly on a corner or an edge's midpoint of the first:
+    /// the search, whose volumes are built along the plates' own axes (a
+    /// turned frame), finds exactly the pairs that testing every pair
+    /// finds.
+    #[test]
+    fn turned_plates_agree_with_every_pair(
+        (nx, ny, mx, my) in (1usize..=5, 1usize..=4, 1usize..=4, 1usize..=3),
+        diag in proptest::collection::vec(any::<bool>(), 20),
+        stretch in 2u32..12,
+        angle in 0.2f64..1.4,
+        axis in proptest::array::uniform3(1u8..9),
+        step in proptest::array::uniform3(-3i32..=3),
+        touch in 0u8..3,
+        (which, corner) in (any::<u16>(), any::<u16>()),
+    ) {
+        let plate = |nx: usize, ny: usize| {
+            let n = (nx + 1) * (ny + 1);
+            Slab { nx, ny, bot: vec![0; n], thick: vec![1; n], diag: diag[..nx * ny].to_vec(), rot: 0 }
+                .mesh()
+        };
+        let r = rotation(angle, axis.map(f64::from));
+        let turned = |p: [f64; 3], by: [i32; 3]| {
+            let q = [
+                (p[0] + f64::from(by[0]) / 2.0) * f64::from(stretch),
+                p[1] + f64::from(by[1]) / 2.0,
+                p[2] + f64::from(by[2]) / 4.0,
+            ];
+            r.map(|row| row[0] * q[0] + row[1] * q[1] + row[2] * q[2])
+        };
+        let (ma, mb) = (plate(nx, ny), plate(mx, my));
+        let n = ma.positions.len();
+        let mut m = ma.clone();
+        m.positions = ma.positions.iter().map(|&p| turned(p, [0; 3])).collect();
+        m.positions.extend(mb.positions.iter().map(|&p| turned(p, step)));
+        m.faces.extend(mb.faces.iter().map(|t| t.map(|v| VertexId(v.0 + n as u32))));
+        // One corner of the second plate on the first, exactly.
+        let b = n + usize::from(which) % mb.positions.len();
+        let f = ma.faces[usize::from(corner) % ma.faces.len()];
+        let (p, q) = (m.pos(f[0]), m.pos(f[1]));
+        match touch {
+            1 => m.positions[b] = p,
+            2 => m.positions[b] = std::array::from_fn(|k| (p[k] + q[k]) / 2.0),
+            _ => {}
+        }
+        let (topo, issues) = Topology::build(&m);
+        prop_assert!(issues.is_empty());
+        prop_assert!(super::bvh::Bvh::build(&m, &m.faces, None, false).is_turned());
+        prop_assert_eq!(self_intersections(&m, &topo), all_pairs(&m));
+    }
+}

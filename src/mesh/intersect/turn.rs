@@ -1,0 +1,342 @@
+//! Input: a mesh's triangles, placed in the broad phase's frame. Output: a
+//! *turn*, three rows of doubles that take the mesh's dominant plane
+//! parallel to two axes and the tightest rectangle around its outline in
+//! that plane along them; or none, when no plane dominates or the mesh
+//! already lies that way.
+//!
+//! Why: the broad phase bounds faces by boxes and diagonal extents along
+//! fixed axes. A flat part turned off the axes (a perforated plate
+//! exported in its assembly's frame) has long thin cap faces whose boxes
+//! are fat on all three axes, each meeting hundreds of faces of the
+//! other cap and of the holes' walls: a turned plate of 314 000 faces took
+//! 10.5 s to validate where the same plate on the axes took 0.8 s. Volumes
+//! taken along the turned axes are thin again.
+//!
+//! Everything here is a heuristic: it chooses the axes, never an answer.
+//! Which volumes meet is decided on the turned coordinates widened by a
+//! proven bound on their rounding (see `VolumeFrame` in `bvh.rs`); two
+//! faces that meet have turned volumes that meet, for any rows at all
+//! (a linear map takes a common point to a common point).
+
+use crate::ids::VertexId;
+use rustc_hash::FxHashMap as HashMap;
+
+/// Triangles and points sampled (by stride, when there are more).
+const SAMPLE: usize = 1 << 14;
+
+/// The least share of the sampled area a plane's faces must have to
+/// dominate (a heuristic).
+const SHARE: f64 = 0.25;
+
+/// Normals are gathered in cells of this many steps per unit (a
+/// heuristic: a flat cap's faces, rounded after turning, stay in one).
+const CELLS: f64 = 16.0;
+
+/// Hull edges whose directions are tried for the tightest rectangle (the
+/// longest ones, when the hull has more).
+const DIRECTIONS: usize = 512;
+
+/// How much smaller than along the axes the tightest rectangle around the
+/// outline must be for the plane to be turned in itself (a heuristic).
+const TIGHTER: f64 = 0.75;
+
+/// The rows of a rotation (rounded: nearly orthonormal).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Turn {
+    rows: [[f64; 3]; 3],
+}
+
+impl Turn {
+    /// The turn of the triangles `tris` over points `pos` (already in the
+    /// broad phase's frame, so finite and within `2^±202`), or `None`.
+    pub(super) fn of(
+        tris: &[[VertexId; 3]],
+        n_points: usize,
+        pos: impl Fn(usize) -> [f64; 3],
+    ) -> Option<Turn> {
+        let d = dominant_normal(tris, &pos)?;
+        let u = outline_axis(d, n_points, &pos);
+        let rows = [u, cross(d, u), d];
+        // Rows already on the axes (up to order and signs): nothing to
+        // gain, and the frame stays exact.
+        let on_axes = rows
+            .iter()
+            .all(|r| r.iter().filter(|c| **c != 0.0).count() == 1);
+        (!on_axes && rows.iter().flatten().all(|c| c.is_finite())).then_some(Turn { rows })
+    }
+
+    /// A turn with these rows (for tests of the bounds).
+    #[cfg(test)]
+    pub(super) fn from_rows(rows: [[f64; 3]; 3]) -> Turn {
+        Turn { rows }
+    }
+
+    /// The turned coordinates of `q` (each a dot product, rounded).
+    #[inline(always)]
+    pub(super) fn apply(&self, q: [f64; 3]) -> [f64; 3] {
+        self.rows.map(|r| r[0] * q[0] + r[1] * q[1] + r[2] * q[2])
+    }
+
+    /// The largest sum of the magnitudes of a row's entries.
+    pub(super) fn row_norm(&self) -> f64 {
+        self.rows
+            .iter()
+            .map(|r| r.iter().map(|c| c.abs()).sum::<f64>())
+            .fold(0.0, f64::max)
+    }
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    std::array::from_fn(|k| a[k] - b[k])
+}
+
+fn cross(u: [f64; 3], v: [f64; 3]) -> [f64; 3] {
+    std::array::from_fn(|c| {
+        let (k, l) = ((c + 1) % 3, (c + 2) % 3);
+        u[k] * v[l] - u[l] * v[k]
+    })
+}
+
+fn dot(u: [f64; 3], v: [f64; 3]) -> f64 {
+    u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+}
+
+/// `v` scaled to length 1, or `None` for a zero or non-finite `v`.
+fn unit(v: [f64; 3]) -> Option<[f64; 3]> {
+    let len = dot(v, v).sqrt();
+    (len > 0.0 && len.is_finite()).then(|| v.map(|c| c / len))
+}
+
+/// The normal of the plane that the sampled faces' area favours, when it
+/// holds at least [`SHARE`] of it: unit normals, one sign per line (the
+/// largest component positive), gathered in cells, weighted by area.
+fn dominant_normal(tris: &[[VertexId; 3]], pos: &impl Fn(usize) -> [f64; 3]) -> Option<[f64; 3]> {
+    let step = tris.len().div_ceil(SAMPLE).max(1);
+    let mut cells: HashMap<[i32; 3], (f64, [f64; 3])> = HashMap::default();
+    let mut total = 0.0;
+    for t in tris.iter().step_by(step) {
+        let [a, b, c] = t.map(|v| pos(v.idx()));
+        let n = cross(sub(b, a), sub(c, a));
+        let (Some(mut u), area) = (unit(n), dot(n, n).sqrt()) else {
+            continue;
+        };
+        let k = (0..3).fold(0, |k, i| if u[i].abs() > u[k].abs() { i } else { k });
+        if u[k] < 0.0 {
+            u = u.map(|c| -c);
+        }
+        let cell = cells
+            .entry(u.map(|c| (c * CELLS).round() as i32))
+            .or_insert((0.0, [0.0; 3]));
+        cell.0 += area;
+        cell.1 = std::array::from_fn(|i| cell.1[i] + area * u[i]);
+        total += area;
+    }
+    let (area, sum) = cells.values().max_by(|x, y| x.0.total_cmp(&y.0))?;
+    (*area >= SHARE * total).then_some(())?;
+    unit(*sum)
+}
+
+/// A unit vector across `d` along a side of the least-area rectangle
+/// around the sampled points' outline in the plane across `d` (their 2D
+/// convex hull; a side of the least rectangle lies along a hull edge).
+fn outline_axis(d: [f64; 3], n_points: usize, pos: &impl Fn(usize) -> [f64; 3]) -> [f64; 3] {
+    // Any two unit vectors across `d`.
+    let k = (0..3).fold(0, |k, i| if d[i].abs() < d[k].abs() { i } else { k });
+    let mut e = [0.0; 3];
+    e[k] = 1.0;
+    let a = unit(cross(d, e)).unwrap_or(e);
+    let b = cross(d, a);
+    // Every point is projected, to keep the extremes along eight
+    // directions (an outline's corners among them); a sample of the rest
+    // fills the hull in between.
+    let step = n_points.div_ceil(SAMPLE).max(1);
+    let mut points: Vec<[f64; 2]> = Vec::with_capacity(SAMPLE + 8);
+    let mut extremes = [(f64::NEG_INFINITY, [0.0; 2]); 8];
+    for v in 0..n_points {
+        let p = pos(v);
+        let t = [dot(p, a), dot(p, b)];
+        let along = [t[0], t[1], t[0] + t[1], t[0] - t[1]];
+        for (k, x) in along.iter().flat_map(|&x| [x, -x]).enumerate() {
+            if x > extremes[k].0 {
+                extremes[k] = (x, t);
+            }
+        }
+        if v % step == 0 {
+            points.push(t);
+        }
+    }
+    points.extend(extremes.iter().filter(|e| e.0.is_finite()).map(|e| e.1));
+    let hull = hull(points);
+    let mut edges: Vec<[f64; 2]> = (0..hull.len())
+        .map(|i| {
+            let (p, q) = (hull[i], hull[(i + 1) % hull.len()]);
+            [q[0] - p[0], q[1] - p[1]]
+        })
+        .filter(|e| e[0] != 0.0 || e[1] != 0.0)
+        .collect();
+    let len2 = |e: &[f64; 2]| e[0] * e[0] + e[1] * e[1];
+    edges.sort_by(|x, y| len2(y).total_cmp(&len2(x)));
+    edges.truncate(DIRECTIONS);
+    let area = |e: &[f64; 2]| {
+        let l = len2(e).sqrt();
+        let (c, s) = (e[0] / l, e[1] / l);
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in &hull {
+            let t = [c * p[0] + s * p[1], c * p[1] - s * p[0]];
+            for i in 0..2 {
+                lo[i] = lo[i].min(t[i]);
+                hi[i] = hi[i].max(t[i]);
+            }
+        }
+        (hi[0] - lo[0]) * (hi[1] - lo[1])
+    };
+    let best = edges
+        .iter()
+        .map(|e| (area(e), e))
+        .min_by(|x, y| x.0.total_cmp(&y.0));
+    // Along `a` (an axis, when `d` is one) unless a turn makes the
+    // rectangle clearly tighter: a round outline has no sides to follow.
+    match best {
+        Some((least, e)) if least < TIGHTER * area(&[1.0, 0.0]) => {
+            unit(std::array::from_fn(|i| e[0] * a[i] + e[1] * b[i])).unwrap_or(a)
+        }
+        _ => a,
+    }
+}
+
+/// The convex hull of `points` (Andrew's monotone chain, in doubles: a
+/// heuristic's hull, with the points of a rounded turn), counterclockwise.
+fn hull(mut points: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
+    points.retain(|p| p[0].is_finite() && p[1].is_finite());
+    points.sort_by(|p, q| p[0].total_cmp(&q[0]).then(p[1].total_cmp(&q[1])));
+    points.dedup();
+    if points.len() < 3 {
+        return points;
+    }
+    let turn = |o: [f64; 2], p: [f64; 2], q: [f64; 2]| {
+        (p[0] - o[0]) * (q[1] - o[1]) - (p[1] - o[1]) * (q[0] - o[0])
+    };
+    let mut h: Vec<[f64; 2]> = Vec::with_capacity(2 * points.len());
+    for pass in [&points[..], &points[..]] {
+        let start = h.len();
+        let ordered: Box<dyn Iterator<Item = &[f64; 2]>> = if start == 0 {
+            Box::new(pass.iter())
+        } else {
+            Box::new(pass.iter().rev())
+        };
+        for &p in ordered {
+            while h.len() >= start + 2 && turn(h[h.len() - 2], h[h.len() - 1], p) <= 0.0 {
+                h.pop();
+            }
+            h.push(p);
+        }
+        h.pop();
+    }
+    h
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rotation(angle: f64, axis: [f64; 3]) -> [[f64; 3]; 3] {
+        let [x, y, z] = unit(axis).unwrap();
+        let (s, c) = angle.sin_cos();
+        let t = 1.0 - c;
+        [
+            [t * x * x + c, t * x * y - s * z, t * x * z + s * y],
+            [t * x * y + s * z, t * y * y + c, t * y * z - s * x],
+            [t * x * z - s * y, t * y * z + s * x, t * z * z + c],
+        ]
+    }
+
+    /// A box `w x h x 1` (12 triangles), its points moved by `m`.
+    fn slab(w: f64, h: f64, m: [[f64; 3]; 3]) -> (Vec<[f64; 3]>, Vec<[VertexId; 3]>) {
+        let corners: Vec<[f64; 3]> = (0..8)
+            .map(|i| {
+                let p = [
+                    if i & 1 == 0 { 0.0 } else { w },
+                    if i & 2 == 0 { 0.0 } else { h },
+                    if i & 4 == 0 { 0.0 } else { 1.0 },
+                ];
+                m.map(|r| dot(r, p))
+            })
+            .collect();
+        let quads = [
+            [0, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ];
+        let tris = quads
+            .iter()
+            .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+            .map(|t| t.map(VertexId))
+            .collect();
+        (corners, tris)
+    }
+
+    fn turn_of(points: &[[f64; 3]], tris: &[[VertexId; 3]]) -> Option<Turn> {
+        Turn::of(tris, points.len(), |v| points[v])
+    }
+
+    #[test]
+    fn a_turned_plate_is_turned_back_onto_the_axes() {
+        // A 40 x 30 x 1 plate: its big faces (2 400 of 2 680 area units)
+        // dominate; turned about a skew axis, the turn's rows are the
+        // plate's own axes (up to sign and order), to rounding.
+        let m = rotation(0.7, [0.3, 0.5, 0.8]);
+        let (points, tris) = slab(40.0, 30.0, m);
+        let t = turn_of(&points, &tris).expect("a turned plate is turned");
+        let column = |k: usize| [m[0][k], m[1][k], m[2][k]];
+        for row in t.rows {
+            let along = (0..3)
+                .map(|k| dot(row, column(k)).abs())
+                .fold(0.0, f64::max);
+            assert!(along > 1.0 - 1e-12, "{row:?} is not along a plate axis");
+        }
+        // Its last row is the plate's normal (the third column of `m`).
+        assert!(dot(t.rows[2], column(2)).abs() > 1.0 - 1e-12);
+    }
+
+    #[test]
+    fn a_plate_on_the_axes_or_a_cube_is_not_turned() {
+        let id = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        let (points, tris) = slab(40.0, 30.0, id);
+        assert_eq!(turn_of(&points, &tris), None);
+        // A turned cube: each pair of opposite faces holds a third of
+        // the area, so one dominates, and the cube is turned back.
+        let (points, tris) = slab(1.0, 1.0, rotation(0.4, [1.0, 2.0, 3.0]));
+        assert!(turn_of(&points, &tris).is_some());
+        // Nothing to look at.
+        assert_eq!(turn_of(&[], &[]), None);
+    }
+
+    #[test]
+    fn a_plate_turned_about_its_normal_gets_its_sides_back() {
+        // Turned 0.3 rad about z: the normal is z exactly, the sides come
+        // from the outline's tightest rectangle.
+        let m = rotation(0.3, [0.0, 0.0, 1.0]);
+        let (points, tris) = slab(40.0, 30.0, m);
+        let t = turn_of(&points, &tris).expect("turned in its plane");
+        assert_eq!(t.rows[2], [0.0, 0.0, 1.0]);
+        let side = [m[0][0], m[1][0], 0.0];
+        assert!(dot(t.rows[0], side).abs() > 1.0 - 1e-12, "{:?}", t.rows);
+    }
+
+    #[test]
+    fn the_hull_of_a_square_with_inner_points() {
+        let h = hull(vec![
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [0.5, 0.5],
+            [1.0, 1.0],
+            [0.0, 1.0],
+            [0.5, 0.0],
+            [f64::NAN, 0.0],
+        ]);
+        assert_eq!(h, vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]);
+    }
+}
