@@ -216,7 +216,7 @@ impl VolumeFrame {
         };
         let placed = |v: usize| frame.place_all([mesh.positions[v]])[0];
         let turn = if turning() {
-            Turn::of(tris, mesh.positions.len(), placed)
+            Turn::of(tris, placed)
         } else {
             None
         };

@@ -533,7 +533,7 @@ proptest! {
 }
 
 /// The rows of the rotation by `angle` about `axis` (rounded).
-fn rotation(angle: f64, axis: [f64; 3]) -> [[f64; 3]; 3] {
+pub(super) fn rotation(angle: f64, axis: [f64; 3]) -> [[f64; 3]; 3] {
     let n = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
     let [x, y, z] = axis.map(|c| c / n);
     let (s, c) = angle.sin_cos();

@@ -1,8 +1,7 @@
 //! Input: a mesh's triangles, placed in the broad phase's frame. Output: a
 //! *turn*, three rows of doubles that take the mesh's dominant plane
-//! parallel to two axes and the tightest rectangle around its outline in
-//! that plane along them; or none, when no plane dominates or the mesh
-//! already lies that way.
+//! parallel to two axes and the long edges in that plane along them; or
+//! none, when no plane dominates or the mesh already lies that way.
 //!
 //! Why: the broad phase bounds faces by boxes and diagonal extents along
 //! fixed axes. A flat part turned off the axes (a perforated plate
@@ -21,7 +20,7 @@
 use crate::ids::VertexId;
 use rustc_hash::FxHashMap as HashMap;
 
-/// Triangles and points sampled (by stride, when there are more).
+/// Triangles sampled (by stride, when there are more).
 const SAMPLE: usize = 1 << 14;
 
 /// The least share of the sampled area a plane's faces must have to
@@ -32,13 +31,14 @@ const SHARE: f64 = 0.25;
 /// heuristic: a flat cap's faces, rounded after turning, stay in one).
 const CELLS: f64 = 16.0;
 
-/// Hull edges whose directions are tried for the tightest rectangle (the
-/// longest ones, when the hull has more).
-const DIRECTIONS: usize = 512;
+/// Bins of the edges' directions over a quarter turn (a heuristic: half
+/// a degree each).
+const BINS: usize = 180;
 
-/// How much smaller than along the axes the tightest rectangle around the
-/// outline must be for the plane to be turned in itself (a heuristic).
-const TIGHTER: f64 = 0.75;
+/// The least share of the edges' weight around one direction for the
+/// plane to be turned in itself (a heuristic; spread evenly, three bins
+/// hold 1.7%).
+const PEAK: f64 = 0.1;
 
 /// The rows of a rotation (rounded: nearly orthonormal).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -49,19 +49,15 @@ pub(super) struct Turn {
 impl Turn {
     /// The turn of the triangles `tris` over points `pos` (already in the
     /// broad phase's frame, so finite and within `2^±202`), or `None`.
-    pub(super) fn of(
-        tris: &[[VertexId; 3]],
-        n_points: usize,
-        pos: impl Fn(usize) -> [f64; 3],
-    ) -> Option<Turn> {
+    pub(super) fn of(tris: &[[VertexId; 3]], pos: impl Fn(usize) -> [f64; 3]) -> Option<Turn> {
         let d = dominant_normal(tris, &pos)?;
-        let u = outline_axis(d, n_points, &pos);
+        let u = edge_axis(d, tris, &pos);
         let rows = [u, cross(d, u), d];
-        // Rows already on the axes (up to order and signs): nothing to
-        // gain, and the frame stays exact.
+        // Rows on the axes (up to order, signs and a turn of a millionth
+        // of a radian): nothing to gain, and the frame stays exact.
         let on_axes = rows
             .iter()
-            .all(|r| r.iter().filter(|c| **c != 0.0).count() == 1);
+            .all(|r| r.iter().any(|c| c.abs() >= 1.0 - 1e-12));
         (!on_axes && rows.iter().flatten().all(|c| c.is_finite())).then_some(Turn { rows })
     }
 
@@ -136,119 +132,67 @@ fn dominant_normal(tris: &[[VertexId; 3]], pos: &impl Fn(usize) -> [f64; 3]) -> 
     unit(*sum)
 }
 
-/// A unit vector across `d` along a side of the least-area rectangle
-/// around the sampled points' outline in the plane across `d` (their 2D
-/// convex hull; a side of the least rectangle lies along a hull edge).
-fn outline_axis(d: [f64; 3], n_points: usize, pos: &impl Fn(usize) -> [f64; 3]) -> [f64; 3] {
-    // Any two unit vectors across `d`.
+/// A unit vector across `d` along the direction, taken modulo a quarter
+/// turn (the two sides of a rectangle vote together), that the sampled
+/// faces' edges lying in the plane across `d` favour, weighted by their
+/// squared lengths: the long edges of slivers, whose boxes are what a
+/// turn makes thin (a round outline says nothing, CAD triangulators lay
+/// their slivers along the part's own axes).
+fn edge_axis(d: [f64; 3], tris: &[[VertexId; 3]], pos: &impl Fn(usize) -> [f64; 3]) -> [f64; 3] {
+    use std::f64::consts::FRAC_PI_2;
+    // Any two unit vectors across `d`: axes themselves when `d` is one.
     let k = (0..3).fold(0, |k, i| if d[i].abs() < d[k].abs() { i } else { k });
     let mut e = [0.0; 3];
     e[k] = 1.0;
     let a = unit(cross(d, e)).unwrap_or(e);
     let b = cross(d, a);
-    // Every point is projected, to keep the extremes along eight
-    // directions (an outline's corners among them); a sample of the rest
-    // fills the hull in between.
-    let step = n_points.div_ceil(SAMPLE).max(1);
-    let mut points: Vec<[f64; 2]> = Vec::with_capacity(SAMPLE + 8);
-    let mut extremes = [(f64::NEG_INFINITY, [0.0; 2]); 8];
-    for v in 0..n_points {
-        let p = pos(v);
-        let t = [dot(p, a), dot(p, b)];
-        let along = [t[0], t[1], t[0] + t[1], t[0] - t[1]];
-        for (k, x) in along.iter().flat_map(|&x| [x, -x]).enumerate() {
-            if x > extremes[k].0 {
-                extremes[k] = (x, t);
+    let step = tris.len().div_ceil(SAMPLE).max(1);
+    let mut bins = vec![(0.0, 0.0); BINS];
+    for t in tris.iter().step_by(step) {
+        let p = t.map(|v| pos(v.idx()));
+        for i in 0..3 {
+            let edge = sub(p[(i + 1) % 3], p[i]);
+            let (x, y, z) = (dot(edge, a), dot(edge, b), dot(edge, d));
+            let w = x * x + y * y;
+            // In the plane (to a hundredth), and finite.
+            if !(w > 0.0 && w.is_finite() && z * z <= 1e-4 * w) {
+                continue;
             }
-        }
-        if v % step == 0 {
-            points.push(t);
+            let angle = y.atan2(x).rem_euclid(FRAC_PI_2);
+            let bin = ((angle / FRAC_PI_2 * BINS as f64) as usize).min(BINS - 1);
+            bins[bin].0 += w;
+            bins[bin].1 += w * angle;
         }
     }
-    points.extend(extremes.iter().filter(|e| e.0.is_finite()).map(|e| e.1));
-    let hull = hull(points);
-    let mut edges: Vec<[f64; 2]> = (0..hull.len())
-        .map(|i| {
-            let (p, q) = (hull[i], hull[(i + 1) % hull.len()]);
-            [q[0] - p[0], q[1] - p[1]]
-        })
-        .filter(|e| e[0] != 0.0 || e[1] != 0.0)
-        .collect();
-    let len2 = |e: &[f64; 2]| e[0] * e[0] + e[1] * e[1];
-    edges.sort_by(|x, y| len2(y).total_cmp(&len2(x)));
-    edges.truncate(DIRECTIONS);
-    let area = |e: &[f64; 2]| {
-        let l = len2(e).sqrt();
-        let (c, s) = (e[0] / l, e[1] / l);
-        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-        for p in &hull {
-            let t = [c * p[0] + s * p[1], c * p[1] - s * p[0]];
-            for i in 0..2 {
-                lo[i] = lo[i].min(t[i]);
-                hi[i] = hi[i].max(t[i]);
-            }
-        }
-        (hi[0] - lo[0]) * (hi[1] - lo[1])
+    let Some(best) = (0..BINS).max_by(|&i, &j| bins[i].0.total_cmp(&bins[j].0)) else {
+        return a;
     };
-    let best = edges
+    // A peak (the best bin and its neighbours) of at least `PEAK` of the
+    // weight, or no turn in the plane: radial edges (an annulus, a
+    // turned tube's flats) point every way, and any turn would do as
+    // badly as none.
+    let total: f64 = bins.iter().map(|b| b.0).sum();
+    let near: f64 = [BINS - 1, 0, 1]
         .iter()
-        .map(|e| (area(e), e))
-        .min_by(|x, y| x.0.total_cmp(&y.0));
-    // Along `a` (an axis, when `d` is one) unless a turn makes the
-    // rectangle clearly tighter: a round outline has no sides to follow.
-    match best {
-        Some((least, e)) if least < TIGHTER * area(&[1.0, 0.0]) => {
-            unit(std::array::from_fn(|i| e[0] * a[i] + e[1] * b[i])).unwrap_or(a)
-        }
-        _ => a,
+        .map(|&o| bins[(best + o) % BINS].0)
+        .sum();
+    if !(near > 0.0 && near >= PEAK * total) {
+        return a;
     }
-}
-
-/// The convex hull of `points` (Andrew's monotone chain, in doubles: a
-/// heuristic's hull, with the points of a rounded turn), counterclockwise.
-fn hull(mut points: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
-    points.retain(|p| p[0].is_finite() && p[1].is_finite());
-    points.sort_by(|p, q| p[0].total_cmp(&q[0]).then(p[1].total_cmp(&q[1])));
-    points.dedup();
-    if points.len() < 3 {
-        return points;
+    // Within a bin of `a` (an axis, when `d` is one): as good as `a`.
+    let angle = bins[best].1 / bins[best].0;
+    let bin = FRAC_PI_2 / BINS as f64;
+    if angle < bin || angle > FRAC_PI_2 - bin {
+        return a;
     }
-    let turn = |o: [f64; 2], p: [f64; 2], q: [f64; 2]| {
-        (p[0] - o[0]) * (q[1] - o[1]) - (p[1] - o[1]) * (q[0] - o[0])
-    };
-    let mut h: Vec<[f64; 2]> = Vec::with_capacity(2 * points.len());
-    for pass in [&points[..], &points[..]] {
-        let start = h.len();
-        let ordered: Box<dyn Iterator<Item = &[f64; 2]>> = if start == 0 {
-            Box::new(pass.iter())
-        } else {
-            Box::new(pass.iter().rev())
-        };
-        for &p in ordered {
-            while h.len() >= start + 2 && turn(h[h.len() - 2], h[h.len() - 1], p) <= 0.0 {
-                h.pop();
-            }
-            h.push(p);
-        }
-        h.pop();
-    }
-    h
+    let (s, c) = angle.sin_cos();
+    unit(std::array::from_fn(|i| c * a[i] + s * b[i])).unwrap_or(a)
 }
 
 #[cfg(test)]
 mod tests {
+    use super::super::tests::rotation;
     use super::*;
-
-    fn rotation(angle: f64, axis: [f64; 3]) -> [[f64; 3]; 3] {
-        let [x, y, z] = unit(axis).unwrap();
-        let (s, c) = angle.sin_cos();
-        let t = 1.0 - c;
-        [
-            [t * x * x + c, t * x * y - s * z, t * x * z + s * y],
-            [t * x * y + s * z, t * y * y + c, t * y * z - s * x],
-            [t * x * z - s * y, t * y * z + s * x, t * z * z + c],
-        ]
-    }
 
     /// A box `w x h x 1` (12 triangles), its points moved by `m`.
     fn slab(w: f64, h: f64, m: [[f64; 3]; 3]) -> (Vec<[f64; 3]>, Vec<[VertexId; 3]>) {
@@ -279,7 +223,7 @@ mod tests {
     }
 
     fn turn_of(points: &[[f64; 3]], tris: &[[VertexId; 3]]) -> Option<Turn> {
-        Turn::of(tris, points.len(), |v| points[v])
+        Turn::of(tris, |v| points[v])
     }
 
     #[test]
@@ -317,26 +261,18 @@ mod tests {
     #[test]
     fn a_plate_turned_about_its_normal_gets_its_sides_back() {
         // Turned 0.3 rad about z: the normal is z exactly, the sides come
-        // from the outline's tightest rectangle.
+        // from the long edges in the plane.
         let m = rotation(0.3, [0.0, 0.0, 1.0]);
         let (points, tris) = slab(40.0, 30.0, m);
         let t = turn_of(&points, &tris).expect("turned in its plane");
         assert_eq!(t.rows[2], [0.0, 0.0, 1.0]);
+        // One of the first two rows is along the turned x side (the other
+        // then along the y side: the rows are orthonormal, to rounding).
         let side = [m[0][0], m[1][0], 0.0];
-        assert!(dot(t.rows[0], side).abs() > 1.0 - 1e-12, "{:?}", t.rows);
-    }
-
-    #[test]
-    fn the_hull_of_a_square_with_inner_points() {
-        let h = hull(vec![
-            [0.0, 0.0],
-            [1.0, 0.0],
-            [0.5, 0.5],
-            [1.0, 1.0],
-            [0.0, 1.0],
-            [0.5, 0.0],
-            [f64::NAN, 0.0],
-        ]);
-        assert_eq!(h, vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]);
+        let along = t.rows[..2]
+            .iter()
+            .map(|r| dot(*r, side).abs())
+            .fold(0.0, f64::max);
+        assert!(along > 1.0 - 1e-12, "{:?}", t.rows);
     }
 }
