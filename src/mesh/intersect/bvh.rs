@@ -101,11 +101,11 @@ fn cross(u: [f64; 3], v: [f64; 3]) -> [f64; 3] {
 /// `2^-24 |z| + 2^-150` (`z` its input, `2^-150` half the smallest
 /// subnormal `f32`), together less than `2^-23 (|x| + m) + 2^-150`, which
 /// is below `m - e = (|x| + e) 2^-22 + 2^-140` (as `|x| + m` is below
-/// `(|x| + e)(1 + 2^-21) + 2^-139`). Beyond the `f32`
-/// range the conversion gives an infinity (and `x = inf` a NaN), which
-/// `min` turns into `f32::MAX`, below such an `x`; `-inf` stays. With
-/// `e = 0` (every frame but a turned one) this is `x - (|x| 2^-22 +
-/// 2^-140)`, as it always was.
+/// `(|x| + e)(1 + 2^-21) + 2^-139`). Beyond the `f32` range the
+/// conversion gives an infinity (and `x = inf` a NaN), which `min` turns
+/// into `f32::MAX`, below such an `x`; `-inf` stays. With `e = 0` (every
+/// frame but a turned one) this is `x - (|x| 2^-22 + 2^-140)`, as it
+/// always was.
 #[inline]
 fn down32(x: f64, e: f64) -> f32 {
     ((x - ((x.abs() + e) * REL + ABS + e)) as f32).min(f32::MAX)
@@ -271,7 +271,8 @@ std::thread_local! {
     static TURNING: std::cell::Cell<bool> = const { std::cell::Cell::new(true) };
 }
 
-/// Whether frames may be turned (see [`TURNING`] in tests).
+/// Whether frames may be turned (always, but where a test of this module
+/// has switched it off: `TURNING`).
 fn turning() -> bool {
     #[cfg(test)]
     return TURNING.with(|t| t.get());
@@ -628,8 +629,9 @@ impl<'m> Bvh<'m> {
                 hi[k] = hi[k].max(p[k]);
             }
         }
-        // Coordinates moved and scaled so that `f32` bounds stay apart
-        // (see `VolumeFrame`): which volumes meet is the same.
+        // Coordinates moved and scaled so that `f32` bounds stay apart,
+        // and turned when a plane dominates off the axes (see
+        // `VolumeFrame`): faces that meet have volumes that meet.
         let frame = VolumeFrame::of(mesh, tris, lo, hi);
         let [lo, hi] = match frame.turn {
             None => frame.place_all([lo, hi]),
