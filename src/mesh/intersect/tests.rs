@@ -550,8 +550,9 @@ proptest! {
 
     /// Two flat plates of long thin faces, turned off the axes together (a
     /// plate exported in its assembly's frame, rounded), the second moved
-    /// by a small step (often into the first) and then, often, one of its
-    /// corners put exactly on a corner or an edge's midpoint of the first:
+    /// by a small step (into the first, or apart across its thickness)
+    /// and then, often, one of its corners put exactly on a corner or an
+    /// edge's midpoint of the first (touching it there, when apart):
     /// the search, whose volumes are built along the plates' own axes (a
     /// turned frame), finds exactly the pairs that testing every pair
     /// finds.
@@ -562,7 +563,7 @@ proptest! {
         stretch in 2u32..12,
         angle in 0.2f64..1.4,
         axis in proptest::array::uniform3(1u8..9),
-        step in proptest::array::uniform3(-3i32..=3),
+        step in (-3i32..=3, -3i32..=3, -8i32..=8).prop_map(|(x, y, z)| [x, y, z]),
         touch in 0u8..3,
         (which, corner) in (any::<u16>(), any::<u16>()),
     ) {
