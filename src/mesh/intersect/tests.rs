@@ -551,8 +551,9 @@ proptest! {
     /// Two flat plates of long thin faces, turned off the axes together (a
     /// plate exported in its assembly's frame, rounded), the second moved
     /// by a small step (into the first, or apart across its thickness)
-    /// and then, often, one of its corners put exactly on a corner or an
-    /// edge's midpoint of the first (touching it there, when apart):
+    /// and then, often, one of its corners put exactly on a corner of the
+    /// first (touching it there, when apart) or at the rounded midpoint of
+    /// one of its edges (on it, or a rounding off it):
     /// the search, whose volumes are built along the plates' own axes (a
     /// turned frame), finds exactly the pairs that testing every pair
     /// finds.
@@ -587,7 +588,9 @@ proptest! {
         m.positions = ma.positions.iter().map(|&p| turned(p, [0; 3])).collect();
         m.positions.extend(mb.positions.iter().map(|&p| turned(p, step)));
         m.faces.extend(mb.faces.iter().map(|t| t.map(|v| VertexId(v.0 + n as u32))));
-        // One corner of the second plate on the first, exactly.
+        // One corner of the second plate on a corner of the first
+        // (exactly), or at an edge's midpoint (rounded: the sum may not be
+        // exact).
         let b = n + usize::from(which) % mb.positions.len();
         let f = ma.faces[usize::from(corner) % ma.faces.len()];
         let (p, q) = (m.pos(f[0]), m.pos(f[1]));
