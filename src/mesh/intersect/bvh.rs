@@ -80,12 +80,12 @@ const REL: f64 = 1.0 / 4_194_304.0;
 const ABS: f64 = 7.174648137343064e-43;
 
 /// The dot product (rounded; for heuristics).
-fn dot(u: [f64; 3], v: [f64; 3]) -> f64 {
+pub(super) fn dot(u: [f64; 3], v: [f64; 3]) -> f64 {
     u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
 }
 
 /// The cross product (rounded; for heuristics).
-fn cross(u: [f64; 3], v: [f64; 3]) -> [f64; 3] {
+pub(super) fn cross(u: [f64; 3], v: [f64; 3]) -> [f64; 3] {
     std::array::from_fn(|c| {
         let (k, l) = ((c + 1) % 3, (c + 2) % 3);
         u[k] * v[l] - u[l] * v[k]
@@ -1487,6 +1487,9 @@ mod tests {
                 let exact = (0..3).fold(crate::exact::rational::Rat::from_integer(0.into()), |s, k| {
                     s + rat_from_f64(row[k]) * rat_from_f64(x[k])
                 });
+                // The proven bound of `VolumeFrame::of` checked in
+                // rationals (it widens the broad phase's volumes; no
+                // decision compares with it).
                 let off = rat_from_f64(got) - exact;
                 proptest::prop_assert!(off.abs() <= bound, "{:?}", x);
             }

@@ -17,6 +17,7 @@
 //! faces that meet have turned volumes that meet, for any rows at all
 //! (a linear map takes a common point to a common point).
 
+use super::bvh::{cross, dot};
 use crate::ids::VertexId;
 use rustc_hash::FxHashMap as HashMap;
 
@@ -54,7 +55,9 @@ impl Turn {
         let u = edge_axis(d, tris, &pos);
         let rows = [u, cross(d, u), d];
         // Rows on the axes (up to order, signs and a turn of a millionth
-        // of a radian): nothing to gain, and the frame stays exact.
+        // of a radian): nothing to gain, and the frame stays exact. A
+        // threshold on rounded rows, deciding only whether the broad
+        // phase's volumes are built turned (its speed), never an answer.
         let on_axes = rows
             .iter()
             .all(|r| r.iter().any(|c| c.abs() >= 1.0 - 1e-12));
@@ -84,17 +87,6 @@ impl Turn {
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     std::array::from_fn(|k| a[k] - b[k])
-}
-
-fn cross(u: [f64; 3], v: [f64; 3]) -> [f64; 3] {
-    std::array::from_fn(|c| {
-        let (k, l) = ((c + 1) % 3, (c + 2) % 3);
-        u[k] * v[l] - u[l] * v[k]
-    })
-}
-
-fn dot(u: [f64; 3], v: [f64; 3]) -> f64 {
-    u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
 }
 
 /// `v` scaled to length 1, or `None` for a zero or non-finite `v`.
@@ -154,7 +146,8 @@ fn edge_axis(d: [f64; 3], tris: &[[VertexId; 3]], pos: &impl Fn(usize) -> [f64; 
             let edge = sub(p[(i + 1) % 3], p[i]);
             let (x, y, z) = (dot(edge, a), dot(edge, b), dot(edge, d));
             let w = x * x + y * y;
-            // In the plane (to a hundredth), and finite.
+            // In the plane (to a hundredth: a heuristic that picks which
+            // edges vote for the axes, never an answer), and finite.
             if !(w > 0.0 && w.is_finite() && z * z <= 1e-4 * w) {
                 continue;
             }
@@ -193,37 +186,29 @@ fn edge_axis(d: [f64; 3], tris: &[[VertexId; 3]], pos: &impl Fn(usize) -> [f64; 
 mod tests {
     use super::super::tests::rotation;
     use super::*;
+    use crate::datasets::slab::Slab;
+    use crate::mesh::Mesh;
 
-    /// A box `w x h x 1` (12 triangles), its points moved by `m`.
-    fn slab(w: f64, h: f64, m: [[f64; 3]; 3]) -> (Vec<[f64; 3]>, Vec<[VertexId; 3]>) {
-        let corners: Vec<[f64; 3]> = (0..8)
-            .map(|i| {
-                let p = [
-                    if i & 1 == 0 { 0.0 } else { w },
-                    if i & 2 == 0 { 0.0 } else { h },
-                    if i & 4 == 0 { 0.0 } else { 1.0 },
-                ];
-                m.map(|r| dot(r, p))
-            })
-            .collect();
-        let quads = [
-            [0, 2, 3, 1],
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ];
-        let tris = quads
-            .iter()
-            .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
-            .map(|t| t.map(VertexId))
-            .collect();
-        (corners, tris)
+    /// A box `w x h x 1` (12 triangles), its points then turned by `m`.
+    fn plate(w: f64, h: f64, m: [[f64; 3]; 3]) -> Mesh {
+        let mut mesh = Slab {
+            nx: 1,
+            ny: 1,
+            bot: vec![0; 4],
+            thick: vec![1; 4],
+            diag: vec![false],
+            rot: 0,
+        }
+        .mesh();
+        for p in &mut mesh.positions {
+            let q = [p[0] * w, p[1] * h, p[2]];
+            *p = m.map(|r| dot(r, q));
+        }
+        mesh
     }
 
-    fn turn_of(points: &[[f64; 3]], tris: &[[VertexId; 3]]) -> Option<Turn> {
-        Turn::of(tris, |v| points[v])
+    fn turn_of(mesh: &Mesh) -> Option<Turn> {
+        Turn::of(&mesh.faces, |v| mesh.positions[v])
     }
 
     #[test]
@@ -232,8 +217,9 @@ mod tests {
         // dominate; turned about a skew axis, the turn's rows are the
         // plate's own axes (up to sign and order), to rounding.
         let m = rotation(0.7, [0.3, 0.5, 0.8]);
-        let (points, tris) = slab(40.0, 30.0, m);
-        let t = turn_of(&points, &tris).expect("a turned plate is turned");
+        let t = turn_of(&plate(40.0, 30.0, m)).expect("a turned plate is turned");
+        // The rows and `m` are rounded doubles (sines, cosines, unit
+        // vectors): alignment is asserted to their rounding, `1e-12`.
         let column = |k: usize| [m[0][k], m[1][k], m[2][k]];
         for row in t.rows {
             let along = (0..3)
@@ -248,14 +234,12 @@ mod tests {
     #[test]
     fn a_plate_on_the_axes_or_a_cube_is_not_turned() {
         let id = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-        let (points, tris) = slab(40.0, 30.0, id);
-        assert_eq!(turn_of(&points, &tris), None);
+        assert_eq!(turn_of(&plate(40.0, 30.0, id)), None);
         // A turned cube: each pair of opposite faces holds a third of
         // the area, so one dominates, and the cube is turned back.
-        let (points, tris) = slab(1.0, 1.0, rotation(0.4, [1.0, 2.0, 3.0]));
-        assert!(turn_of(&points, &tris).is_some());
+        assert!(turn_of(&plate(1.0, 1.0, rotation(0.4, [1.0, 2.0, 3.0]))).is_some());
         // Nothing to look at.
-        assert_eq!(turn_of(&[], &[]), None);
+        assert_eq!(turn_of(&Mesh::default()), None);
     }
 
     #[test]
@@ -263,8 +247,7 @@ mod tests {
         // Turned 0.3 rad about z: the normal is z exactly, the sides come
         // from the long edges in the plane.
         let m = rotation(0.3, [0.0, 0.0, 1.0]);
-        let (points, tris) = slab(40.0, 30.0, m);
-        let t = turn_of(&points, &tris).expect("turned in its plane");
+        let t = turn_of(&plate(40.0, 30.0, m)).expect("turned in its plane");
         assert_eq!(t.rows[2], [0.0, 0.0, 1.0]);
         // One of the first two rows is along the turned x side (the other
         // then along the y side: the rows are orthonormal, to rounding).
