@@ -31,7 +31,9 @@ thread against one thread, and manifold3d, built with TBB, would otherwise
 construct on every core.
 
 Prints a Markdown table (medians of RUNS; ratio = manifold3d / wmslice,
-above 1: wmslice is faster) and the geometric mean of the ratios.
+above 1: wmslice is faster; JSON MB: the size of the file wmslice wrote,
+which the written column pays for and manifold3d does not) and the
+geometric mean of the ratios.
 """
 
 import argparse
@@ -193,6 +195,10 @@ def main():
                 row[tool + "_error"] = str(e)[-300:]
                 times = []
             row[tool] = statistics.median(times) if times else None
+            if tool == "wmslice" and times:
+                # What "written" writes: the cost of the file beside the
+                # /dev/null column (manifold3d writes nothing).
+                row["json_bytes"] = os.path.getsize(out)
             m = re.search(r"number paths \(loop points\): (.*)", err)
             if m:
                 row["paths"] = m.group(1).strip()
@@ -236,7 +242,7 @@ def main():
 
     head = "| mesh | layers | H | wmslice s |" + (" before s |" if len(tools) == 2 else "") + \
         " manifold3d s | ratio |" + (" to /dev/null s | ratio |" if args.null else "") + \
-        " number paths |"
+        " JSON MB | number paths |"
     lines = [head, "|" + "---|" * (head.count("|") - 1)]
     ratios = []
     null_ratios = []
@@ -256,6 +262,7 @@ def main():
                   f"{ratio:.2f}" if ratio else "-"]
         if args.null:
             cells += [show(r.get("null")), f"{null_ratio:.2f}" if null_ratio else "-"]
+        cells.append(f"{r['json_bytes'] / 1e6:.1f}" if r.get("json_bytes") else "-")
         cells.append(r.get("paths", ""))
         lines.append("| " + " | ".join(cells) + " |")
     for label, rs in [("", ratios), (" (JSON to /dev/null)", null_ratios)]:
