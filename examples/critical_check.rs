@@ -1,7 +1,8 @@
 //! The critical values of a mesh file, checked against the slow path.
 //!
 //! `cargo run --release --example critical_check -- FILE [SNAP]` loads the
-//! mesh (snapped to the grid `SNAP` if given), runs
+//! mesh as the command line does (snapped to the grid `SNAP` if given; a
+//! 3MF part placed off the doubles needs one), runs
 //! [`wmslice::critical::analyze`] and the independent
 //! [`wmslice::critical::brute_force::classify_all`] (the full level set at
 //! every distinct vertex height: quadratic, so skipped above
@@ -12,8 +13,8 @@ use std::time::Instant;
 use wmslice::critical::{analyze, brute_force};
 use wmslice::exact::parse_rational;
 use wmslice::exact::rational::Rat;
-use wmslice::mesh::io::{load_bytes, read_file, MeshFormat};
-use wmslice::mesh::prepare::prepare;
+use wmslice::mesh::io::load_exact;
+use wmslice::mesh::prepare::prepare_exact;
 use wmslice::Slicer;
 
 /// Above this many faces only the analysis runs (and is timed).
@@ -25,14 +26,23 @@ fn main() {
         eprintln!("usage: critical_check FILE [SNAP]");
         std::process::exit(2);
     };
-    let bytes = read_file(std::path::Path::new(path)).expect("readable");
-    let hint = std::path::Path::new(path)
-        .extension()
-        .and_then(|e| e.to_str())
-        .and_then(MeshFormat::from_extension);
-    let (mesh, _) = load_bytes(&bytes, hint).expect("parses");
+    // Read and prepared as the command line does: a 3MF vertex whose
+    // placed position is not a double is snapped from its exact position.
+    let (mesh, _, exact) = match load_exact(std::path::Path::new(path)) {
+        Ok(read) => read,
+        Err(e) => {
+            println!("{path}: unread: {e}");
+            std::process::exit(2);
+        }
+    };
     let q = args.get(1).map(|q| parse_rational(q).expect("a grid"));
-    let p = prepare(mesh, q.as_ref()).expect("prepares");
+    let p = match prepare_exact(mesh, &exact, q.as_ref()) {
+        Ok(p) => p,
+        Err(e) => {
+            println!("{path}: refused: {e}");
+            return;
+        }
+    };
     let unit = p
         .unit
         .clone()
