@@ -100,6 +100,30 @@ fn the_oracle_refuses_what_is_not_a_closed_manifold() {
     assert!(oracle_self_intersections(&open).is_err());
 }
 
+/// A face naming a vertex the mesh does not have (tinyobjloader's
+/// `invalid-relative-texture-index.obj`: one face, no vertex) or a
+/// coordinate that is not finite has no edge tables to compare: nothing
+/// to compare, not a panic in building them.
+#[test]
+fn faces_naming_missing_vertices_and_non_finite_coordinates_are_not_compared() {
+    let no_vertices = Mesh::from_raw(vec![], vec![[0, 0, 0]]);
+    assert_eq!(compare(&no_vertices), Ok(None));
+    let mut tetra = Mesh::from_raw(
+        vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ],
+        vec![[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]],
+    );
+    assert_eq!(compare(&tetra), Ok(Some(false)));
+    let beyond = Mesh::from_raw(tetra.positions.clone(), vec![[0, 2, 1], [0, 1, 9]]);
+    assert_eq!(compare(&beyond), Ok(None));
+    tetra.positions[3][2] = f64::NAN;
+    assert_eq!(compare(&tetra), Ok(None));
+}
+
 #[test]
 fn every_dataset_agrees_with_cgal() {
     let mut failures = Vec::new();

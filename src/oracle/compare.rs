@@ -457,8 +457,16 @@ pub fn compare_slab(slab: &Slab, extra: &[Rat], cov: &mut Coverage) -> Result<()
 /// verdict (CGAL's `does_self_intersect` against validation's refusal by
 /// a fold, a self-intersection or a degenerate face). `Ok(Some(verdict))`
 /// when both agree, `Ok(None)` when the topology has issues (nothing to
-/// compare), else what differs, with the mesh as pasteable Rust.
+/// compare: also when a face names a vertex the mesh does not have or a
+/// coordinate is not finite, which the edge tables cannot be built on),
+/// else what differs, with the mesh as pasteable Rust.
 pub fn compare_self_intersections(m: &Mesh) -> Result<Option<bool>, String> {
+    let nv = m.num_vertices();
+    let in_range = m.faces.iter().flatten().all(|v| v.idx() < nv);
+    let finite = m.positions.iter().flatten().all(|x| x.is_finite());
+    if !(in_range && finite) {
+        return Ok(None);
+    }
     let (topo, issues) = Topology::build(m);
     if !issues.is_empty() {
         return Ok(None);
