@@ -1300,6 +1300,47 @@ fn three_mf_components_compose_and_instances_stay_separate() {
     assert_eq!(ids(&mesh)[4], [4, 6, 5]);
 }
 
+/// Many relationships before the model's (thumbnails, metadata) are
+/// siblings, not nesting: an empty `<Relationship/>` closes itself. The
+/// relationships part counted each as a level and refused the package as
+/// nesting deeper than 64.
+#[test]
+fn three_mf_many_relationships_before_the_models_are_not_nesting() {
+    let xml = model(&tetra_object(1, "1"), r#"<item objectid="1"/>"#);
+    let thumbnails: String = (0..100)
+        .map(|k| {
+            format!(
+                r#"<Relationship Target="/Metadata/t{k}.png" Id="t{k}" Type="http://schemas.openxmlformats.org/package/2006/relationships/metadata/thumbnail"/>"#
+            )
+        })
+        .collect();
+    let rels = format!(
+        r#"<?xml version="1.0" encoding="UTF-8"?>
+<Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships">{thumbnails}<Relationship Target="/3D/part.model" Id="r0" Type="http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel"/></Relationships>"#
+    );
+    let bytes = zip_parts(&[
+        ("_rels/.rels", rels.as_bytes()),
+        ("3D/part.model", xml.as_bytes()),
+    ]);
+    let (mesh, _) = load_bytes(&bytes, None).unwrap();
+    assert_eq!((mesh.num_vertices(), mesh.num_faces()), (4, 4));
+    // Real nesting past the limit is still refused.
+    let deep = format!(
+        r#"<?xml version="1.0" encoding="UTF-8"?>
+<Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships">{}{}</Relationships>"#,
+        "<a>".repeat(70),
+        "</a>".repeat(70)
+    );
+    let bytes = zip_parts(&[
+        ("_rels/.rels", deep.as_bytes()),
+        ("3D/part.model", xml.as_bytes()),
+    ]);
+    assert!(matches!(
+        load_bytes(&bytes, None),
+        Err(LoadError::XmlTooDeep { ref part, .. }) if part == "_rels/.rels"
+    ));
+}
+
 fn write_temp(name: &str, bytes: &[u8]) -> std::path::PathBuf {
     let dir = tempfile::tempdir().unwrap().keep();
     let path = dir.join(name);

@@ -124,41 +124,62 @@ fn root_model_name<R: Read + Seek>(archive: &mut zip::ZipArchive<R>) -> Result<S
         return Ok(ROOT_MODEL.to_owned());
     }
     let rels = read_part(archive, rels_name)?;
-    let mut reader = quick_xml::Reader::from_reader(rels.as_slice());
+    let target = find_element(&rels, rels_name, |e| {
+        if e.local_name().as_ref() != "Relationship" {
+            return Ok(None);
+        }
+        let attrs = attributes(e, rels_name)?;
+        if !attrs
+            .iter()
+            .any(|(k, v)| k == "Type" && v == MODEL_REL_TYPE)
+        {
+            return Ok(None);
+        }
+        Ok(get(&attrs, "Target").map(|t| t.trim_start_matches('/').to_owned()))
+    })?;
+    Ok(target.unwrap_or_else(|| ROOT_MODEL.to_owned()))
+}
+
+/// Visits the elements of the XML part `part` in document order (each
+/// start or empty tag) until `visit` returns `Some`, under
+/// [`MAX_XML_DEPTH`]: an empty element closes itself, so siblings do not
+/// add up to depth.
+fn find_element<T>(
+    xml: &[u8],
+    part: &str,
+    mut visit: impl FnMut(&BytesStart<'_>) -> Result<Option<T>, LoadError>,
+) -> Result<Option<T>, LoadError> {
+    let mut reader = quick_xml::Reader::from_reader(xml);
     let mut depth = 0usize;
     loop {
         let event = reader.read_event().map_err(|source| LoadError::Xml {
-            part: rels_name.to_owned(),
+            part: part.to_owned(),
             position: reader.error_position(),
             source,
         })?;
-        match event {
-            Event::Start(e) | Event::Empty(e) => {
-                depth += 1;
-                if depth > MAX_XML_DEPTH {
-                    return Err(LoadError::XmlTooDeep {
-                        part: rels_name.to_owned(),
-                        limit: MAX_XML_DEPTH,
-                    });
-                }
-                if e.local_name().as_ref() == "Relationship" {
-                    let attrs = attributes(&e, rels_name)?;
-                    let is_model = attrs
-                        .iter()
-                        .any(|(k, v)| k == "Type" && v == MODEL_REL_TYPE);
-                    if is_model {
-                        if let Some((_, target)) = attrs.iter().find(|(k, _)| k == "Target") {
-                            return Ok(target.trim_start_matches('/').to_owned());
-                        }
-                    }
-                }
+        let (e, empty) = match event {
+            Event::Start(e) => (e, false),
+            Event::Empty(e) => (e, true),
+            Event::End(_) => {
+                depth = depth.saturating_sub(1);
+                continue;
             }
-            Event::End(_) => depth = depth.saturating_sub(1),
-            Event::Eof => break,
-            _ => {}
+            Event::Eof => return Ok(None),
+            _ => continue,
+        };
+        if depth >= MAX_XML_DEPTH {
+            return Err(LoadError::XmlTooDeep {
+                part: part.to_owned(),
+                limit: MAX_XML_DEPTH,
+            });
+        }
+        if !empty {
+            depth += 1;
+        }
+        if let Some(found) = visit(&e)? {
+            return Ok(Some(found));
         }
     }
-    Ok(ROOT_MODEL.to_owned())
 }
 
 /// Inflates one part under the size and ratio limits.
