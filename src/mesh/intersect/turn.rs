@@ -251,8 +251,10 @@ mod tests {
         assert_eq!(t.rows[2], [0.0, 0.0, 1.0]);
         // One of the first two rows is along the turned x side (the other
         // then along the y side: the rows are orthonormal, to rounding).
-        // Rounded rows that only pick the broad phase's axes: asserted to
-        // their rounding, `1e-12`, as above.
+        // Not a tolerance in any decision: the rows are rounded doubles
+        // that only orient the broad phase's boxes (every intersection
+        // test is exact and never reads them), so the test asserts their
+        // alignment to rounding, `1e-12`, as the test above does.
         let side = [m[0][0], m[1][0], 0.0];
         let along = t.rows[..2]
             .iter()
