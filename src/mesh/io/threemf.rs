@@ -124,62 +124,46 @@ fn root_model_name<R: Read + Seek>(archive: &mut zip::ZipArchive<R>) -> Result<S
         return Ok(ROOT_MODEL.to_owned());
     }
     let rels = read_part(archive, rels_name)?;
-    let target = find_element(&rels, rels_name, |e| {
-        if e.local_name().as_ref() != "Relationship" {
-            return Ok(None);
-        }
-        let attrs = attributes(e, rels_name)?;
-        if !attrs
-            .iter()
-            .any(|(k, v)| k == "Type" && v == MODEL_REL_TYPE)
-        {
-            return Ok(None);
-        }
-        Ok(get(&attrs, "Target").map(|t| t.trim_start_matches('/').to_owned()))
-    })?;
-    Ok(target.unwrap_or_else(|| ROOT_MODEL.to_owned()))
-}
-
-/// Visits the elements of the XML part `part` in document order (each
-/// start or empty tag) until `visit` returns `Some`, under
-/// [`MAX_XML_DEPTH`]: an empty element closes itself, so siblings do not
-/// add up to depth.
-fn find_element<T>(
-    xml: &[u8],
-    part: &str,
-    mut visit: impl FnMut(&BytesStart<'_>) -> Result<Option<T>, LoadError>,
-) -> Result<Option<T>, LoadError> {
-    let mut reader = quick_xml::Reader::from_reader(xml);
+    let mut reader = quick_xml::Reader::from_reader(rels.as_slice());
     let mut depth = 0usize;
     loop {
         let event = reader.read_event().map_err(|source| LoadError::Xml {
-            part: part.to_owned(),
+            part: rels_name.to_owned(),
             position: reader.error_position(),
             source,
         })?;
-        let (e, empty) = match event {
-            Event::Start(e) => (e, false),
-            Event::Empty(e) => (e, true),
+        // The element and the level it stands at. An empty element closes
+        // itself: its siblings (a `<Relationship/>` each) do not add up.
+        let (e, level) = match event {
+            Event::Start(e) => {
+                depth += 1;
+                (e, depth)
+            }
+            Event::Empty(e) => (e, depth + 1),
             Event::End(_) => {
                 depth = depth.saturating_sub(1);
                 continue;
             }
-            Event::Eof => return Ok(None),
+            Event::Eof => break,
             _ => continue,
         };
-        if depth >= MAX_XML_DEPTH {
+        if level > MAX_XML_DEPTH {
             return Err(LoadError::XmlTooDeep {
-                part: part.to_owned(),
+                part: rels_name.to_owned(),
                 limit: MAX_XML_DEPTH,
             });
         }
-        if !empty {
-            depth += 1;
-        }
-        if let Some(found) = visit(&e)? {
-            return Ok(Some(found));
+        if e.local_name().as_ref() == "Relationship" {
+            let attrs = attributes(&e, rels_name)?;
+            let is_model = attrs
+                .iter()
+                .any(|(k, v)| k == "Type" && v == MODEL_REL_TYPE);
+            if let Some(target) = get(&attrs, "Target").filter(|_| is_model) {
+                return Ok(target.trim_start_matches('/').to_owned());
+            }
         }
     }
+    Ok(ROOT_MODEL.to_owned())
 }
 
 /// Inflates one part under the size and ratio limits.
