@@ -646,6 +646,70 @@ fn cylinder_top_shows_the_f_colour_inside_the_rim_and_no_contour_stroke() {
 }
 
 #[test]
+fn a_cylinder_far_out_or_scaled_to_1e_minus_300_is_drawn_as_at_home() {
+    use wmslice::datasets::cross_check::{far_offset, scaled};
+    use wmslice::exact::rational::{rat_from_f64, rat_to_string};
+    let Some(bin) = chromium() else { return };
+    let dir = temp_dir("frame");
+    let mesh = datasets::by_name("cylinder").unwrap().build();
+    let (t, far) = far_offset(&mesh).expect("a far offset");
+    assert!(t >= 2f64.powi(40), "{t}");
+    let tiny = scaled(&mesh, -1000).expect("exact scale");
+    let size = (800, 800);
+    let rect = view_rect(size);
+    let fill = rgb(colour::SO_FILL);
+    let mut counts = Vec::new();
+    for (name, m, z) in [
+        ("home", &mesh, parse_rational("1").unwrap()),
+        ("far", &far, parse_rational("1").unwrap() + rat_from_f64(t)),
+        (
+            "tiny",
+            &tiny,
+            parse_rational("1").unwrap() / wmslice::exact::Rat::from_integer(2.into()).pow(1000),
+        ),
+    ] {
+        let ls = slice(m, &rat_to_string(&z));
+        let page = write_viewer(&dir, name, m, &[("regular", &ls)]);
+        let img = screenshot(
+            &bin,
+            &page,
+            "layer=0",
+            size,
+            &dir.join(format!("{name}.png")),
+        );
+        if name == "tiny" {
+            // Its area, 2^-2000 times the disk's, runs to hundreds of
+            // digits: the table shows the nearest double, the exact value
+            // on hover.
+            let area = wmslice::levelset::total_area(&ls.contours);
+            let exact = rat_to_string(&area);
+            assert!(exact.len() > 500);
+            let dom = dump_dom(&bin, &page, "layer=0");
+            let cell = format!(
+                "<span title=\"{exact}\">~{}</span>",
+                wmslice::exact::rational::rat_to_f64(&area)
+            );
+            assert!(dom.contains(&cell), "{cell} in the table");
+        }
+        counts.push((
+            img.count(rect, fill),
+            img.count(rect, rgb(colour::SO_OUTER)),
+        ));
+    }
+    // At home the disk fills the drawing; moved to 2^50 (32-bit floats
+    // 2^26 apart) or scaled to 2^-1000 (below their range) it used to draw
+    // nothing. Now each is the same disk, pixel for pixel up to
+    // anti-aliasing.
+    let (home_fill, home_rim) = counts[0];
+    assert!(home_fill > 20_000 && home_rim > 200, "{counts:?}");
+    for &(f, r) in &counts[1..] {
+        assert!(f.abs_diff(home_fill) * 100 <= home_fill, "{counts:?}");
+        assert!(r.abs_diff(home_rim) * 10 <= home_rim, "{counts:?}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn fragment_picks_a_layer_by_exact_level_and_sets_toggles() {
     let Some(bin) = chromium() else { return };
     let dir = temp_dir("fragment");

@@ -645,3 +645,150 @@ fn slice_html_holds_every_level_ascending() {
     assert!(Path::new(&f).exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The inner `<svg>` (the drawing) of a standalone SVG.
+fn drawing_of(els: &[El]) -> &El {
+    els.iter()
+        .filter(|e| e.name == "svg")
+        .nth(1)
+        .expect("nested drawing")
+}
+
+/// Every number of the drawing's elements (path data, circle centres and
+/// radii), in document order: what a browser reads as 32-bit floats.
+fn drawn_numbers(els: &[El]) -> Vec<f64> {
+    let mut out = Vec::new();
+    for e in els {
+        if let Some(d) = e.attrs.get("d") {
+            out.extend(
+                d.split(|c: char| c.is_ascii_alphabetic() || c.is_whitespace())
+                    .filter(|t| !t.is_empty())
+                    .map(|t| t.parse::<f64>().expect("number")),
+            );
+        }
+        for k in ["cx", "cy", "r"] {
+            if let Some(v) = e.attrs.get(k) {
+                out.push(v.parse().expect("number"));
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn a_part_far_out_or_at_either_end_of_the_double_range_is_drawn_in_a_frame() {
+    use wmslice::datasets::cross_check::{far_offset, scaled};
+    use wmslice::exact::rational::rat_from_f64;
+    let mesh = datasets::by_name("double_torus").unwrap().build();
+    let c = parse_rational("2").unwrap();
+    let draw = |m: &wmslice::Mesh, z: &Rat| {
+        let ls = Slicer::new(m).expect("valid").slice_at(z).expect("slice");
+        let text = level_svg(&ls, &Scene::new(m, None), "x", &SvgOptions::default());
+        (ls, parse(&text))
+    };
+    // As it is: model coordinates (y negated), said by the identity frame.
+    let (_, plain) = draw(&mesh, &c);
+    assert_eq!(drawing_of(&plain).attrs["data-frame"], "0 0 0");
+
+    // Moved to 2^50 (every coordinate still exact): 32-bit floats are
+    // 2^26 apart there, so model coordinates would put every point on one.
+    let (t, far) = far_offset(&mesh).expect("a far offset");
+    assert!(t >= 2f64.powi(40), "{t}");
+    let (ls, els) = draw(&far, &(c.clone() + rat_from_f64(t)));
+    let inner = drawing_of(&els);
+    let frame: Vec<f64> = inner.attrs["data-frame"]
+        .split(' ')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    let (x0, y0, k) = (frame[0], frame[1], frame[2] as i32);
+    assert!(x0 > 2f64.powi(40) && k != 0, "{frame:?}");
+    // Each drawn point of S_O reads back, through the frame, as the
+    // nearest double of its exact point. Exactly: near 2^50 a point and the
+    // frame's origin are within a factor 2, so their difference is a
+    // double (Sterbenz), and scaling by 2^k is exact.
+    let outer = with(&els, &["so", "outer"]);
+    let drawn: Vec<[f64; 2]> = outer.iter().flat_map(|e| coords(e)).collect();
+    let rounded: Vec<[f64; 2]> = ls
+        .contours
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| l.role == wmslice::nest::Role::Outer)
+        .flat_map(|(i, l)| {
+            let holes = ls.contours.iter().filter(move |h| h.parent == Some(i));
+            l.points
+                .iter()
+                .chain(holes.flat_map(|h| &h.points))
+                .map(|p| p.to_f64())
+        })
+        .collect();
+    assert!(rounded.len() > 50);
+    assert_eq!(drawn.len(), rounded.len());
+    let unit = 2f64.powi(-k);
+    for ([sx, sy], [x, y]) in drawn.iter().zip(&rounded) {
+        assert_eq!(
+            [x0 + sx * unit, y0 - sy * unit],
+            [*x, *y],
+            "drawn as ({sx}, {sy})"
+        );
+    }
+    // The numbers are small: 32-bit floats keep them to 1/16384 of the
+    // drawing, whose box is 512 to 1024 units wide.
+    let vb: Vec<f64> = inner.attrs["viewBox"]
+        .split(' ')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    assert!((512.0..1200.0).contains(&vb[2].max(vb[3])), "{vb:?}");
+    let numbers = drawn_numbers(&els);
+    assert!(!numbers.is_empty());
+    assert!(numbers.iter().all(|v| v.abs() < 2048.0), "{numbers:?}");
+
+    // Scaled by a power of two towards either end of the double range
+    // (the loop points' nearest doubles still normal, so they scale with
+    // the mesh): the frame takes the scale back exactly, so the drawing
+    // is the same.
+    let mut drawings = Vec::new();
+    for s in [-960, 1000] {
+        let m = scaled(&mesh, s).expect("exact scale");
+        let z = &c * Rat::from_integer(2.into()).pow(s);
+        let (_, els) = draw(&m, &z);
+        let f = &drawing_of(&els).attrs["data-frame"];
+        assert!(!f.ends_with(" 0"), "scaled by 2^{s}: frame {f}");
+        drawings.push(drawn_numbers(&els));
+    }
+    assert_eq!(drawings.len(), 2);
+    assert!(drawings[0].len() > 100);
+    assert_eq!(drawings[0], drawings[1]);
+}
+
+#[test]
+fn the_legend_shows_a_long_level_by_its_nearest_double() {
+    let mesh = datasets::by_name("unit_cube").unwrap().build();
+    let title_and_heading = |z: &str| {
+        let level = parse_rational(z).unwrap();
+        let ls = Slicer::new(&mesh).unwrap().slice_at(&level).unwrap();
+        let els = parse(&level_svg(
+            &ls,
+            &Scene::new(&mesh, None),
+            "cube",
+            &SvgOptions::default(),
+        ));
+        let title = els.iter().find(|e| e.name == "title").unwrap().text.clone();
+        let legend = els.iter().position(|e| has(e, &["legend"])).unwrap();
+        let heading = els
+            .iter()
+            .find(|e| e.parent == Some(legend) && e.name == "text")
+            .unwrap()
+            .text
+            .clone();
+        (title, heading)
+    };
+    assert_eq!(title_and_heading("1/3").1, "z = 1/3");
+    // 17 characters still fit the legend's column.
+    assert_eq!(
+        title_and_heading("12345678/12345679").1,
+        "z = 12345678/12345679"
+    );
+    let (title, heading) = title_and_heading("123456789/1234567891");
+    assert_eq!(heading, "z \u{2248} 1.000000e-1");
+    assert!(title.ends_with("z = 123456789/1234567891"), "{title}");
+}

@@ -20,9 +20,10 @@
 //!
 //! For scripted checks the script marks `<body>` with `data-layer` (the
 //! layer shown), `data-ready="1"`, and the drawing's page rectangle as
-//! `data-view-rect="x,y,width,height"` in CSS pixels. The drawing area is
-//! placed by fixed CSS: left 8 px, top 92 px, up to 276 px from the right
-//! edge and 8 px from the bottom.
+//! `data-view-rect="x,y,width,height"` in CSS pixels; the drawing's
+//! `data-frame` says where model coordinates went ([`super::svg::Frame`]).
+//! The drawing area is placed by fixed CSS: left 8 px, top 92 px, up to
+//! 276 px from the right edge and 8 px from the bottom.
 
 use super::critical::holds;
 use super::svg::{drawing, style, xml_escape, Scene, SvgOptions};
@@ -99,6 +100,8 @@ pub struct Counts {
     pub so_hole: usize,
     /// Exact signed area of S_O, `"p/q"`.
     pub so_area: String,
+    /// Its nearest double, for reading when the exact text is long.
+    pub so_area_approx: String,
     /// F regions facing up.
     pub f_up: usize,
     /// F regions facing down.
@@ -125,28 +128,34 @@ pub struct Counts {
     pub lminus_outer: usize,
     /// L- holes.
     pub lminus_hole: usize,
-    /// Exact signed area of L-.
+    /// Exact signed area of L-, `"p/q"`.
     pub lminus_area: String,
+    /// Its nearest double, for reading when the exact text is long.
+    pub lminus_area_approx: String,
     /// L+ outer loops.
     pub lplus_outer: usize,
     /// L+ holes.
     pub lplus_hole: usize,
-    /// Exact signed area of L+.
+    /// Exact signed area of L+, `"p/q"`.
     pub lplus_area: String,
+    /// Its nearest double, for reading when the exact text is long.
+    pub lplus_area_approx: String,
 }
 
-fn roles(loops: &[Loop]) -> (usize, usize, String) {
+/// Outer loops, holes, the exact total area and its nearest double.
+fn roles(loops: &[Loop]) -> (usize, usize, String, String) {
     let outer = loops.iter().filter(|l| l.role == Role::Outer).count();
     let area = total_area(loops);
-    (outer, loops.len() - outer, rat_to_string(&area))
+    let approx = rat_to_f64(&area).to_string();
+    (outer, loops.len() - outer, rat_to_string(&area), approx)
 }
 
 impl Counts {
     /// The counts of a level set.
     pub fn of(ls: &LevelSet) -> Self {
-        let (so_outer, so_hole, so_area) = roles(&ls.contours);
-        let (lminus_outer, lminus_hole, lminus_area) = roles(&ls.below);
-        let (lplus_outer, lplus_hole, lplus_area) = roles(&ls.above);
+        let (so_outer, so_hole, so_area, so_area_approx) = roles(&ls.contours);
+        let (lminus_outer, lminus_hole, lminus_area, lminus_area_approx) = roles(&ls.below);
+        let (lplus_outer, lplus_hole, lplus_area, lplus_area_approx) = roles(&ls.above);
         let facing = |f: Facing| ls.regions.iter().filter(|r| r.facing == f).count();
         let ridges = |k: RidgeKind, closed: bool| {
             ls.ridges
@@ -159,6 +168,7 @@ impl Counts {
             so_outer,
             so_hole,
             so_area,
+            so_area_approx,
             f_up: facing(Facing::Up),
             f_down: facing(Facing::Down),
             f_flat: facing(Facing::Flat),
@@ -173,9 +183,11 @@ impl Counts {
             lminus_outer,
             lminus_hole,
             lminus_area,
+            lminus_area_approx,
             lplus_outer,
             lplus_hole,
             lplus_area,
+            lplus_area_approx,
         }
     }
 }
@@ -188,6 +200,7 @@ struct LayerData {
     approx: f64,
     #[serde(rename = "viewBox")]
     view_box: String,
+    frame: String,
     svg: String,
     counts: Counts,
 }
@@ -277,10 +290,16 @@ const SCRIPT: &str = r#"(function () {
   function esc(s) {
     return String(s).replace(/&/g, '&amp;').replace(/</g, '&lt;').replace(/>/g, '&gt;');
   }
+  // An exact area as written when short, else its nearest double, with
+  // the exact value on hover.
+  function area(exact, approx) {
+    if (exact.length <= 24) { return esc(exact); }
+    return '<span title="' + esc(exact) + '">~' + esc(approx) + '</span>';
+  }
   function countsTable(c) {
     var sad = c.saddles.length ? c.saddles.length + ' (m = ' + c.saddles.join(', ') + ')' : '0';
     return row('S_O outer / hole', c.so_outer + ' / ' + c.so_hole) +
-      row('S_O area', esc(c.so_area)) +
+      row('S_O area', area(c.so_area, c.so_area_approx)) +
       row('F up / down / flat', c.f_up + ' / ' + c.f_down + ' / ' + c.f_flat) +
       row('dF loops', c.df) +
       row('S_NO ridges open / closed', c.ridge_open + ' / ' + c.ridge_closed) +
@@ -288,15 +307,16 @@ const SCRIPT: &str = r#"(function () {
       row('P min / max', c.p_min + ' / ' + c.p_max) +
       row('saddles', sad) +
       row('L- outer / hole', c.lminus_outer + ' / ' + c.lminus_hole) +
-      row('L- area', esc(c.lminus_area)) +
+      row('L- area', area(c.lminus_area, c.lminus_area_approx)) +
       row('L+ outer / hole', c.lplus_outer + ' / ' + c.lplus_hole) +
-      row('L+ area', esc(c.lplus_area));
+      row('L+ area', area(c.lplus_area, c.lplus_area_approx));
   }
   function show(i) {
     if (n === 0) { $('level').textContent = '(no layers)'; return; }
     cur = Math.max(0, Math.min(n - 1, i | 0));
     var l = L[cur];
     view.setAttribute('viewBox', l.viewBox);
+    view.setAttribute('data-frame', l.frame);
     view.innerHTML = l.svg;
     $('level').textContent = l.z;
     $('approx').textContent = '(~' + l.approx + ')';
@@ -391,6 +411,7 @@ pub fn viewer(layers: &[ViewerLayer], opts: &ViewerOptions) -> String {
                     z: rat_to_string(&l.level.level),
                     approx: rat_to_f64(&l.level.level),
                     view_box: d.view_box_attr(),
+                    frame: d.frame.attr(),
                     svg: d.body,
                     counts: Counts::of(l.level),
                 }

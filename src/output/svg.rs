@@ -18,13 +18,18 @@
 //! `layer-p`, `layer-saddle`, `layer-lminus`, `layer-lplus`), which the HTML
 //! viewer toggles. Loops and regions carry their exact signed area as
 //! `data-area` (`"p/q"`). Coordinates are the nearest `f64` of the exact
-//! values (the only rounding), with `y` negated so that `+y` points up.
+//! values, with `y` negated so that `+y` points up: model coordinates, or,
+//! where a browser's 32-bit floats would lose the drawing (a part far from
+//! the origin, or at either end of the double range), moved and scaled by
+//! a power of two as the drawing's `data-frame` says ([`Frame`]; one more
+//! rounding).
 //! The legend uses inline styles only, never the classes above, so that
 //! the classes count exactly the level set's elements.
 
 use crate::classify::{ExtremumKind, Facing, RidgeKind};
 use crate::exact::point::LoopPoint;
 use crate::exact::rational::{rat_from_f64, rat_to_f64, rat_to_string, Rat};
+use crate::exact::scale::{leading_exponent, times_pow2};
 use crate::exact::Point2;
 use crate::ids::VertexId;
 use crate::levelset::{LevelSet, Loop};
@@ -146,21 +151,29 @@ pub struct Scene<'a> {
     mesh: &'a Mesh,
     unit: Option<Rat>,
     bounds: Bounds,
+    frame: Frame,
 }
 
 impl<'a> Scene<'a> {
     /// The scene of a mesh; `unit` is the snap grid when the mesh is snapped.
     pub fn new(mesh: &'a Mesh, unit: Option<&Rat>) -> Self {
+        let bounds = Bounds::of_mesh(mesh, unit);
         Scene {
             mesh,
             unit: unit.cloned(),
-            bounds: Bounds::of_mesh(mesh, unit),
+            frame: Frame::of(&bounds),
+            bounds,
         }
     }
 
     /// The bounding box, in output units.
     pub fn bounds(&self) -> &Bounds {
         &self.bounds
+    }
+
+    /// Where the drawing puts model coordinates.
+    pub fn frame(&self) -> &Frame {
+        &self.frame
     }
 
     /// The exact (x, y) of a vertex in output units.
@@ -173,6 +186,104 @@ impl<'a> Scene<'a> {
     }
 }
 
+/// Where a drawing puts a model point `(x, y)`: at `X = (x - x0) 2^k`,
+/// `Y = (y0 - y) 2^k`, each rounded once to `f64` (so `+y` points up).
+///
+/// Browsers read SVG numbers as 32-bit floats, so model coordinates draw
+/// nothing for a part `1e15` from the origin (all its points one float
+/// apart) or scaled to `1e-300` or `1e300` (beyond the float's range).
+/// The frame is the identity (`x0 = y0 = 0`, `k = 0`: model coordinates
+/// with `y` negated) when a 32-bit float resolves the bounding box to
+/// 1/32768 of its size and its size lies within `2^-60 .. 2^61`; else the
+/// box's corner `(min x, max y)` goes to `(0, 0)` and `2^k` brings its
+/// size to between 512 and 1024. A drawing says which as
+/// `data-frame="x0 y0 k"`, from which `x = x0 + X 2^-k`, `y = y0 - Y 2^-k`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frame {
+    /// `(x0, y0)`: the model point drawn at `(0, 0)`.
+    pub origin: [f64; 2],
+    /// The drawing's unit is `2^-k` model units.
+    pub k: i32,
+}
+
+impl Frame {
+    /// Model coordinates, `y` negated.
+    pub const IDENTITY: Frame = Frame {
+        origin: [0.0, 0.0],
+        k: 0,
+    };
+
+    /// The frame of a bounding box (see [`Frame`]).
+    pub fn of(b: &Bounds) -> Frame {
+        // 2^e <= size < 2^(e+1), from the wider extent (halved when the
+        // difference overflows); a box of no size is drawn as it is.
+        let extent = |lo: f64, hi: f64| {
+            let d = hi - lo;
+            if d.is_finite() {
+                leading_exponent(d)
+            } else {
+                leading_exponent(offset(lo, hi, -1)).map(|e| e + 1)
+            }
+        };
+        let Some(e) = extent(b.min[0], b.max[0]).max(extent(b.min[1], b.max[1])) else {
+            return Frame::IDENTITY;
+        };
+        let far = [b.min[0], b.max[0], b.min[1], b.max[1]]
+            .into_iter()
+            .filter_map(leading_exponent)
+            .max();
+        // |coordinate| < 2^(e+9): a float's 24 bits resolve 2^(e-15).
+        if (-60..=60).contains(&e) && far.is_none_or(|m| m <= e + 8) {
+            Frame::IDENTITY
+        } else {
+            Frame {
+                origin: [b.min[0], b.max[1]],
+                k: 9 - e,
+            }
+        }
+    }
+
+    /// The drawing point of a model point.
+    pub fn place(&self, [x, y]: [f64; 2]) -> [f64; 2] {
+        [
+            offset(self.origin[0], x, self.k),
+            offset(y, self.origin[1], self.k),
+        ]
+    }
+
+    /// The `data-frame` attribute value, `"x0 y0 k"`; `x0` and `y0` as the
+    /// shorter of the plain and the exponent form (`1.5e-310`), each
+    /// reading back as the same double.
+    pub fn attr(&self) -> String {
+        let short = |x: f64| {
+            let (plain, exp) = (num(x), format!("{:e}", x + 0.0));
+            if exp.len() < plain.len() {
+                exp
+            } else {
+                plain
+            }
+        };
+        format!(
+            "{} {} {}",
+            short(self.origin[0]),
+            short(self.origin[1]),
+            self.k
+        )
+    }
+}
+
+/// `(to - from) 2^k`, rounded once: for `k < 0` each term is scaled first
+/// (exact unless it falls below `2^-1074`), so that the difference of
+/// coordinates near `±f64::MAX` does not overflow; else the difference is
+/// taken first and scaled exactly.
+fn offset(from: f64, to: f64, k: i32) -> f64 {
+    if k < 0 {
+        times_pow2(to, k) - times_pow2(from, k)
+    } else {
+        times_pow2(to - from, k)
+    }
+}
+
 /// Drawing options.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct SvgOptions {
@@ -180,12 +291,14 @@ pub struct SvgOptions {
     pub arrows: bool,
 }
 
-/// The drawing of one level: the elements, in model coordinates with `y`
-/// negated, and the view box that frames the mesh.
+/// The drawing of one level: the elements, placed by the scene's
+/// [`Frame`], and the view box that frames the mesh.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Drawing {
     /// `[x, y, width, height]` of the view box.
     pub view_box: [f64; 4],
+    /// Where the elements' coordinates come from.
+    pub frame: Frame,
     /// The groups of elements (no `<svg>` around them).
     pub body: String,
 }
@@ -225,15 +338,9 @@ pub fn xml_escape(s: &str) -> String {
     out
 }
 
-/// Screen point of a model point (y negated).
-fn screen(p: [f64; 2]) -> [f64; 2] {
-    [p[0], -p[1]]
-}
-
-/// Appends a closed (or open) subpath `M .. L .. [Z]`.
+/// Appends a closed (or open) subpath `M .. L .. [Z]` of drawing points.
 fn subpath(d: &mut String, pts: &[[f64; 2]], closed: bool) {
-    for (i, p) in pts.iter().enumerate() {
-        let [x, y] = screen(*p);
+    for (i, &[x, y]) in pts.iter().enumerate() {
         let _ = write!(
             d,
             "{}{} {}",
@@ -255,8 +362,9 @@ fn subpath(d: &mut String, pts: &[[f64; 2]], closed: bool) {
     }
 }
 
-fn rounded(points: &[LoopPoint]) -> Vec<[f64; 2]> {
-    points.iter().map(LoopPoint::to_f64).collect()
+/// The drawing points of a loop's points (nearest doubles, placed).
+fn placed(points: &[LoopPoint], frame: &Frame) -> Vec<[f64; 2]> {
+    points.iter().map(|p| frame.place(p.to_f64())).collect()
 }
 
 fn role_class(r: Role) -> &'static str {
@@ -309,8 +417,10 @@ fn arrows(out: &mut String, pts: &[[f64; 2]], size: f64, class: &str) {
 /// Draws one level: every kind in its group, framed by the mesh's
 /// bounding box.
 pub fn drawing(ls: &LevelSet, scene: &Scene, opts: &SvgOptions) -> Drawing {
-    let b = scene.bounds();
-    let (w0, h0) = (b.max[0] - b.min[0], b.max[1] - b.min[1]);
+    let (b, frame) = (scene.bounds(), scene.frame());
+    let [x0, y0] = frame.place([b.min[0], b.max[1]]);
+    let [x1, y1] = frame.place([b.max[0], b.min[1]]);
+    let (w0, h0) = (x1 - x0, y1 - y0);
     let size = {
         let s = w0.max(h0);
         if s > 0.0 && s.is_finite() {
@@ -321,8 +431,8 @@ pub fn drawing(ls: &LevelSet, scene: &Scene, opts: &SvgOptions) -> Drawing {
     };
     let pad = 0.06 * size;
     let view_box = [
-        b.min[0] - pad + 0.0,
-        -(b.max[1] + pad) + 0.0,
+        x0 - pad + 0.0,
+        y0 - pad + 0.0,
         w0 + 2.0 * pad,
         h0 + 2.0 * pad,
     ];
@@ -340,7 +450,7 @@ pub fn drawing(ls: &LevelSet, scene: &Scene, opts: &SvgOptions) -> Drawing {
         };
         let mut d = String::new();
         for l in &r.boundary {
-            subpath(&mut d, &rounded(&l.points), true);
+            subpath(&mut d, &placed(&l.points, frame), true);
         }
         let _ = writeln!(
             s,
@@ -351,7 +461,7 @@ pub fn drawing(ls: &LevelSet, scene: &Scene, opts: &SvgOptions) -> Drawing {
     }
     for r in &ls.regions {
         for l in &r.boundary {
-            let pts = rounded(&l.points);
+            let pts = placed(&l.points, frame);
             let mut d = String::new();
             subpath(&mut d, &pts, true);
             let _ = writeln!(
@@ -382,9 +492,9 @@ pub fn drawing(ls: &LevelSet, scene: &Scene, opts: &SvgOptions) -> Drawing {
     ] {
         let _ = writeln!(s, r#"<g class="{group}">"#);
         if Arc::ptr_eq(loops, &ls.contours) {
-            loops_as_paths(&mut s, class, loops, &contour_areas);
+            loops_as_paths(&mut s, class, loops, &contour_areas, frame);
         } else {
-            loops_as_paths(&mut s, class, loops, &areas(loops));
+            loops_as_paths(&mut s, class, loops, &areas(loops), frame);
         }
         s.push_str("</g>\n");
     }
@@ -396,13 +506,13 @@ pub fn drawing(ls: &LevelSet, scene: &Scene, opts: &SvgOptions) -> Drawing {
             continue;
         }
         let mut d = String::new();
-        subpath(&mut d, &rounded(&l.points), true);
+        subpath(&mut d, &placed(&l.points, frame), true);
         for h in ls
             .contours
             .iter()
             .filter(|h| h.role == Role::Hole && h.parent == Some(i))
         {
-            subpath(&mut d, &rounded(&h.points), true);
+            subpath(&mut d, &placed(&h.points, frame), true);
         }
         let _ = writeln!(
             s,
@@ -415,7 +525,7 @@ pub fn drawing(ls: &LevelSet, scene: &Scene, opts: &SvgOptions) -> Drawing {
             continue;
         }
         let mut d = String::new();
-        subpath(&mut d, &rounded(&l.points), true);
+        subpath(&mut d, &placed(&l.points, frame), true);
         let _ = writeln!(s, r#"<path class="so hole" data-area="{area}" d="{d}"/>"#);
     }
     if opts.arrows {
@@ -424,7 +534,7 @@ pub fn drawing(ls: &LevelSet, scene: &Scene, opts: &SvgOptions) -> Drawing {
                 Role::Outer => "on-so",
                 Role::Hole => "on-so hole",
             };
-            arrows(&mut s, &rounded(&l.points), arrow, class);
+            arrows(&mut s, &placed(&l.points, frame), arrow, class);
         }
     }
     s.push_str("</g>\n");
@@ -437,7 +547,7 @@ pub fn drawing(ls: &LevelSet, scene: &Scene, opts: &SvgOptions) -> Drawing {
             RidgeKind::Valley => "valley",
         };
         let mut d = String::new();
-        let points: Vec<[f64; 2]> = r.points.iter().map(Point2::to_f64).collect();
+        let points: Vec<[f64; 2]> = r.points.iter().map(|p| frame.place(p.to_f64())).collect();
         subpath(&mut d, &points, r.closed);
         let _ = writeln!(
             s,
@@ -454,7 +564,7 @@ pub fn drawing(ls: &LevelSet, scene: &Scene, opts: &SvgOptions) -> Drawing {
             ExtremumKind::Min => "min",
             ExtremumKind::Max => "max",
         };
-        let [x, y] = screen(p.point.to_f64());
+        let [x, y] = frame.place(p.point.to_f64());
         let _ = writeln!(
             s,
             r#"<circle class="p {kind}" data-vertex="{}" cx="{}" cy="{}" r="{}"/>"#,
@@ -469,7 +579,7 @@ pub fn drawing(ls: &LevelSet, scene: &Scene, opts: &SvgOptions) -> Drawing {
     // Saddles.
     s.push_str("<g class=\"layer-saddle\">\n");
     for sd in &ls.saddles {
-        let [x, y] = screen(scene.vertex_point(sd.vertex).to_f64());
+        let [x, y] = frame.place(scene.vertex_point(sd.vertex).to_f64());
         let r = 1.6 * dot;
         let m = sd.m();
         let _ = writeln!(
@@ -490,14 +600,18 @@ pub fn drawing(ls: &LevelSet, scene: &Scene, opts: &SvgOptions) -> Drawing {
         );
     }
     s.push_str("</g>\n");
-    Drawing { view_box, body: s }
+    Drawing {
+        view_box,
+        frame: *frame,
+        body: s,
+    }
 }
 
 /// The loops as paths, `areas[k]` the exact area text of loop `k`.
-fn loops_as_paths(s: &mut String, class: &str, loops: &[Loop], areas: &[String]) {
+fn loops_as_paths(s: &mut String, class: &str, loops: &[Loop], areas: &[String], frame: &Frame) {
     for (l, area) in loops.iter().zip(areas) {
         let mut d = String::new();
-        subpath(&mut d, &rounded(&l.points), true);
+        subpath(&mut d, &placed(&l.points, frame), true);
         // Limits are drawn as lines, never filled; a collapsed one is
         // marked so that a viewer can tell it bounds nothing.
         let collapsed = if l.collapsed { " collapsed" } else { "" };
@@ -517,7 +631,18 @@ enum Swatch {
     Diamond(&'static str),
 }
 
-fn legend(out: &mut String, x0: f64, level: &str) {
+/// The legend's heading: `z = ` and the exact level when it fits the
+/// legend's column (17 characters), else `z ≈ ` and its nearest double to
+/// seven digits (the exact level is the title's).
+fn legend_level(exact: &str, level: &Rat) -> String {
+    if exact.len() <= 17 {
+        format!("z = {exact}")
+    } else {
+        format!("z \u{2248} {:.6e}", rat_to_f64(level))
+    }
+}
+
+fn legend(out: &mut String, x0: f64, heading: &str) {
     use colour::*;
     let rows: [(&str, Swatch); 12] = [
         ("S_O outer", Swatch::Fill(SO_FILL, SO_OUTER)),
@@ -535,8 +660,8 @@ fn legend(out: &mut String, x0: f64, level: &str) {
     ];
     let _ = writeln!(
         out,
-        r#"<g class="legend" font-family="sans-serif" font-size="13"><text x="{x0}" y="24" font-weight="bold">z = {}</text>"#,
-        xml_escape(level)
+        r#"<g class="legend" font-family="sans-serif" font-size="13"><text x="{x0}" y="24" font-weight="bold">{}</text>"#,
+        xml_escape(heading)
     );
     for (i, (label, sw)) in rows.iter().enumerate() {
         let y = 52.0 + 24.0 * i as f64;
@@ -610,12 +735,13 @@ pub fn level_svg(ls: &LevelSet, scene: &Scene, name: &str, opts: &SvgOptions) ->
     );
     let _ = writeln!(
         out,
-        r#"<svg x="0" y="0" width="{DRAW_PX}" height="{DRAW_PX}" viewBox="{}" preserveAspectRatio="xMidYMid meet">"#,
-        d.view_box_attr()
+        r#"<svg x="0" y="0" width="{DRAW_PX}" height="{DRAW_PX}" viewBox="{}" data-frame="{}" preserveAspectRatio="xMidYMid meet">"#,
+        d.view_box_attr(),
+        d.frame.attr()
     );
     out.push_str(&d.body);
     out.push_str("</svg>\n");
-    legend(&mut out, DRAW_PX + 10.0, &level);
+    legend(&mut out, DRAW_PX + 10.0, &legend_level(&level, &ls.level));
     out.push_str("</svg>\n");
     out
 }
