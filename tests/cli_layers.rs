@@ -481,3 +481,119 @@ fn binary_cli_refuses_what_f32_cannot_hold() {
     assert!(err.contains("1e300 lies beyond them"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Binary CLI also refuses what `f32` would write as a different part: a
+/// part far from the origin for its size (its points `f32`'s steps
+/// apart), and layers closer than `f32`'s step at their height (written
+/// at one height). A block 1 wide at 14678, where `f32` steps by
+/// `2^-10`, is written, its corners exactly.
+#[test]
+fn binary_cli_refuses_a_part_or_layers_f32_cannot_tell_apart() {
+    let dir = std::env::temp_dir().join(format!("wmslice-cli-coarse-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let block = |name: &str, x0: u64| {
+        let path = dir.join(name);
+        let (a, b) = (x0, x0 + 1);
+        let v = |x: u64, y: u32, z: u32| format!("v {x} {y} {z}\n");
+        let text = [
+            v(a, 0, 0),
+            v(b, 0, 0),
+            v(b, 1, 0),
+            v(a, 1, 0),
+            v(a, 0, 3),
+            v(b, 0, 3),
+            v(b, 1, 3),
+            v(a, 1, 3),
+            "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n".into(),
+        ]
+        .concat();
+        std::fs::write(&path, text).unwrap();
+        path
+    };
+    let slice = |mesh: &std::path::Path, extra: &[&str], out: &std::path::Path| {
+        run(&[
+            &[
+                "slice",
+                mesh.to_str().unwrap(),
+                "--quiet",
+                "--format",
+                "cli-binary",
+                "-o",
+            ],
+            &[out.to_str().unwrap()][..],
+            extra,
+        ]
+        .concat())
+    };
+
+    let near = block("near.obj", 14678);
+    let out = dir.join("near.cli");
+    let (code, _, err) = slice(&near, &["--at", "3/2"], &out);
+    assert_eq!(code, 0, "{err}");
+    let file = read(&std::fs::read(&out).unwrap()).unwrap();
+    let mut points: Vec<[f64; 2]> = file.layers[0].polylines[0].points.clone();
+    points.sort_by(|p, q| p[0].total_cmp(&q[0]).then(p[1].total_cmp(&q[1])));
+    points.dedup();
+    // The four corners, and the midpoints of the four sides, where each
+    // side's quad, split along a diagonal, crosses z = 3/2.
+    assert_eq!(
+        points,
+        [
+            [14678.0, 0.0],
+            [14678.0, 0.5],
+            [14678.0, 1.0],
+            [14678.5, 0.0],
+            [14678.5, 1.0],
+            [14679.0, 0.0],
+            [14679.0, 0.5],
+            [14679.0, 1.0]
+        ]
+    );
+
+    // At 2^40, f32 steps by 2^17: the block would be one point.
+    let far = block("far.obj", 1 << 40);
+    let out = dir.join("far.cli");
+    let (code, _, err) = slice(&far, &["--at", "3/2"], &out);
+    assert_eq!(code, 5, "{err}");
+    assert!(
+        err.contains("1.31072e5 apart at 1.099511627777e12"),
+        "{err}"
+    );
+    assert!(err.contains("only 1e0 wide"), "{err}");
+    assert!(!out.exists(), "no file");
+
+    // Layers 1e-8 apart near z = 1, where f32 steps by 2^-23 (1.2e-7).
+    let out = dir.join("thin.cli");
+    let thin = [
+        "--layer-height",
+        "1e-8",
+        "--first",
+        "1",
+        "--last",
+        "1.000001",
+    ];
+    let (code, _, err) = slice(&near, &thin, &out);
+    assert_eq!(code, 5, "{err}");
+    assert!(
+        err.contains("the layers at z = 1e0 and z = 1.00000001e0 would both be written at 1e0"),
+        "{err}"
+    );
+    assert!(!out.exists(), "no file");
+    // ASCII CLI writes both.
+    let (code, _, err) = run(&[
+        &[
+            "slice",
+            near.to_str().unwrap(),
+            "--quiet",
+            "--format",
+            "cli",
+            "-o",
+        ][..],
+        &[out.to_str().unwrap()],
+        &thin,
+    ]
+    .concat());
+    assert_eq!(code, 0, "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

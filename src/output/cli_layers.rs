@@ -396,10 +396,42 @@ pub enum CliWriteError {
         /// The largest coordinate magnitude of the part.
         extent: f64,
     },
+    /// A part so far from the origin for its size that `f32` keeps fewer
+    /// than 8 bits of it: its points would move by 1/256 of its width or
+    /// more (a part `40` wide at `1e15` would be one point). A block `1`
+    /// wide at `14678` (`f32` steps of `2^-10` there) is written.
+    #[error(
+        "binary CLI holds f32 values, which lie {step:e} apart at {at:e}, where this part \
+         lies, and it is only {width:e} wide: f32 keeps fewer than 8 bits of it; write \
+         ASCII CLI (--format cli) or JSON, or move the part nearer the origin"
+    )]
+    CoarseF32 {
+        /// The largest `|x|` or `|y|` of the part.
+        at: f64,
+        /// The distance between consecutive `f32`s there.
+        step: f64,
+        /// The part's width (the larger of its `x` and `y` extents).
+        width: f64,
+    },
+    /// Two layers whose heights round to one `f32`.
+    #[error(
+        "binary CLI holds f32 values, and the layers at z = {lower:e} and z = {upper:e} \
+         would both be written at {written:e}: write ASCII CLI (--format cli) or JSON, \
+         or slice thicker layers"
+    )]
+    LayersMerge {
+        /// The lower layer's height.
+        lower: f64,
+        /// The upper layer's height.
+        upper: f64,
+        /// The `f32` both round to.
+        written: f32,
+    },
 }
 
-/// Whether `file` can be written as binary CLI without an infinity, or a
-/// part lost among the subnormal `f32`s. (A single value far below the
+/// Whether `file` can be written as binary CLI without an infinity, a
+/// part lost among the subnormal `f32`s or too far out for `f32` to keep
+/// its shape, or two layers at one `f32` height. (A single value far below the
 /// part's size may still round to zero: an error below `2^-149` file
 /// units, as every rounding to `f32` makes one.)
 pub fn check_binary(file: &CliFile) -> Result<(), CliWriteError> {
@@ -421,6 +453,51 @@ pub fn check_binary(file: &CliFile) -> Result<(), CliWriteError> {
     // 2^-100: a part this small keeps 24 bits in f32 only above 2^-126.
     if extent > 0.0 && extent < f64::from_bits((1023 - 100) << 52) {
         return Err(CliWriteError::BelowF32 { extent });
+    }
+    for w in file.layers.windows(2) {
+        let (lower, upper) = (w[0].z, w[1].z);
+        if lower as f32 == upper as f32 {
+            return Err(CliWriteError::LayersMerge {
+                lower,
+                upper,
+                written: lower as f32,
+            });
+        }
+    }
+    coarse_check(file)
+}
+
+/// [`CliWriteError::CoarseF32`] when `f32`'s step at the part's largest
+/// `|x|` or `|y|` exceeds 1/256 of its width.
+fn coarse_check(file: &CliFile) -> Result<(), CliWriteError> {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in file.layers.iter().flat_map(|l| &l.polylines) {
+        for q in &p.points {
+            for k in 0..2 {
+                lo[k] = lo[k].min(q[k]);
+                hi[k] = hi[k].max(q[k]);
+            }
+        }
+    }
+    if lo[0] > hi[0] {
+        return Ok(()); // no points
+    }
+    // Halves, so that no width overflows; every value fits f32 here.
+    let width = 2.0 * (hi[0] / 2.0 - lo[0] / 2.0).max(hi[1] / 2.0 - lo[1] / 2.0);
+    let at = [lo[0], hi[0], lo[1], hi[1]]
+        .into_iter()
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    let a = at as f32;
+    // The distance from the f32 nearest `at` to the next one up (from
+    // the largest f32, the one below), exact in f64.
+    let next = f32::from_bits(a.to_bits() + 1);
+    let step = if next.is_finite() {
+        f64::from(next) - f64::from(a)
+    } else {
+        f64::from(a) - f64::from(f32::from_bits(a.to_bits() - 1))
+    };
+    if width < 256.0 * step {
+        return Err(CliWriteError::CoarseF32 { at, step, width });
     }
     Ok(())
 }
