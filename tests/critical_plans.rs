@@ -373,3 +373,52 @@ fn critical_json_is_the_text_of_its_own_value() {
     }
     assert!(clusters_seen > 0);
 }
+
+/// Heights whose exact text outgrows the axis's margin (a part moved to
+/// `2^51`) are labelled by their nearest double, each node's tooltip
+/// keeping the exact height; the part drawn at home keeps exact labels.
+#[test]
+fn critical_svg_labels_long_heights_by_their_nearest_double() {
+    use wmslice::datasets::cross_check::far_offset;
+    use wmslice::exact::rational::{rat_from_f64, rat_to_string};
+    use wmslice::output::reeb_svg::reeb_svg;
+    let mesh = wmslice::datasets::by_name("double_torus").unwrap().build();
+    let graph = |m: &wmslice::Mesh| {
+        let slicer = wmslice::Slicer::new(m).unwrap();
+        wmslice::critical::analyze(&slicer).unwrap().reeb
+    };
+    let home = reeb_svg(&graph(&mesh), "home");
+    for label in ["z = 0", "z = 2", "z = 4"] {
+        assert!(home.contains(&format!(">{label}</text>")), "{label}");
+    }
+    let (t, far) = far_offset(&mesh).unwrap();
+    assert_eq!(t, 2f64.powi(51));
+    let g = graph(&far);
+    let svg = reeb_svg(&g, "far");
+    // 2^51 + 2 = 2251799813685250: 2.25e15 to three digits.
+    assert!(svg.contains(">z \u{2248} 2.25e15</text>"), "{svg}");
+    let top = rat_to_string(&(rat_from_f64(t) + wmslice::exact::parse_rational("4").unwrap()));
+    assert!(svg.contains(&format!("at z = {top}</title>")), "{svg}");
+    assert!(!svg.contains("NaN"));
+
+    // Heights from -2^1023 to 2^1023, whose difference overflows: the
+    // nodes still sit between the margins, in order of height.
+    // (z - 2) 2^1022, x and y kept: an affine map, exact, still valid.
+    let mut wide = mesh.clone();
+    for p in &mut wide.positions {
+        p[2] = (p[2] - 2.0) * 2f64.powi(1022);
+    }
+    let svg = reeb_svg(&graph(&wide), "wide");
+    let cy: Vec<f64> = svg
+        .split("<circle cx=")
+        .skip(1)
+        .take(4)
+        .map(|c| {
+            let c = &c[c.find("cy=\"").unwrap() + 4..];
+            c[..c.find('"').unwrap()].parse().unwrap()
+        })
+        .collect();
+    assert_eq!(cy.len(), 4);
+    assert!(cy.iter().all(|y| (0.0..=600.0).contains(y)), "{cy:?}");
+    assert!(cy.first() > cy.last(), "{cy:?}");
+}

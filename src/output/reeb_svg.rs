@@ -4,7 +4,7 @@
 //! each other never overlap. Positions are rounded to 0.01 px for drawing
 //! only.
 
-use super::svg::xml_escape as escape;
+use super::svg::{level_label, xml_escape as escape};
 use crate::critical::{NodeKind, ReebGraph};
 use crate::exact::rational::{rat_to_f64, rat_to_string};
 use std::fmt::Write;
@@ -89,7 +89,10 @@ pub fn reeb_svg(graph: &ReebGraph, title: &str) -> String {
         (z0 - 1.0, z0 + 1.0)
     };
     let px = |x: f64| LEFT + 20.0 + x / width * (WIDTH - LEFT - RIGHT - 40.0);
-    let py = |z: f64| HEIGHT - MARGIN - (z - z0) / (z1 - z0) * (HEIGHT - 2.0 * MARGIN);
+    // Halved, so that no difference of heights near ±f64::MAX overflows.
+    let py = |z: f64| {
+        HEIGHT - MARGIN - (z / 2.0 - z0 / 2.0) / (z1 / 2.0 - z0 / 2.0) * (HEIGHT - 2.0 * MARGIN)
+    };
     let mut t = String::new();
     let _ = writeln!(
         t,
@@ -112,10 +115,11 @@ pub fn reeb_svg(graph: &ReebGraph, title: &str) -> String {
         if k % stride == 0 || k + 1 == levels.len() {
             let _ = writeln!(
                 t,
-                r##"<text x="{:.2}" y="{:.2}" text-anchor="end" fill="#444">z = {}</text>"##,
+                r##"<text x="{:.2}" y="{:.2}" text-anchor="end" fill="#444">{}</text>"##,
                 LEFT - 14.0,
                 y + 4.0,
-                escape(&rat_to_string(&nodes[i].z))
+                // The axis's margin holds 8 characters of a height.
+                escape(&level_label(&nodes[i].z, 8, 2))
             );
         }
     }

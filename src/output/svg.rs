@@ -631,14 +631,16 @@ enum Swatch {
     Diamond(&'static str),
 }
 
-/// The legend's heading: `z = ` and the exact level when it fits the
-/// legend's column (17 characters), else `z ≈ ` and its nearest double to
-/// seven digits (the exact level is the title's).
-fn legend_level(exact: &str, level: &Rat) -> String {
-    if exact.len() <= 17 {
+/// `z = ` and the exact level when its text has at most `fit` characters,
+/// else `z ≈ ` and its nearest double with `digits` digits after the
+/// point (a label in a column of fixed width; the exact level belongs in
+/// a title).
+pub(crate) fn level_label(level: &Rat, fit: usize, digits: usize) -> String {
+    let exact = rat_to_string(level);
+    if exact.len() <= fit {
         format!("z = {exact}")
     } else {
-        format!("z \u{2248} {:.6e}", rat_to_f64(level))
+        format!("z \u{2248} {:.*e}", digits, rat_to_f64(level))
     }
 }
 
@@ -741,7 +743,8 @@ pub fn level_svg(ls: &LevelSet, scene: &Scene, name: &str, opts: &SvgOptions) ->
     );
     out.push_str(&d.body);
     out.push_str("</svg>\n");
-    legend(&mut out, DRAW_PX + 10.0, &legend_level(&level, &ls.level));
+    // The legend's column holds 17 characters of a level.
+    legend(&mut out, DRAW_PX + 10.0, &level_label(&ls.level, 17, 6));
     out.push_str("</svg>\n");
     out
 }
