@@ -656,7 +656,7 @@ fn drawing_of(els: &[El]) -> &El {
 
 /// Every number of the drawing's elements (path data, circle centres and
 /// radii), in document order: what a browser reads as 32-bit floats.
-fn drawn_numbers(els: &[El]) -> Vec<f64> {
+fn drawn_numbers<'a>(els: impl IntoIterator<Item = &'a El>) -> Vec<f64> {
     let mut out = Vec::new();
     for e in els {
         if let Some(d) = e.attrs.get("d") {
@@ -791,4 +791,53 @@ fn the_legend_shows_a_long_level_by_its_nearest_double() {
     let (title, heading) = title_and_heading("123456789/1234567891");
     assert_eq!(heading, "z \u{2248} 1.000000e-1");
     assert!(title.ends_with("z = 123456789/1234567891"), "{title}");
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 64, ..Default::default() })]
+
+    /// Wherever in the double range a part lies (a random family's mesh
+    /// scaled by `2^k`, then moved `2^shift` times that scale away), its
+    /// drawing survives a browser's 32-bit floats: each number of the
+    /// view box and the elements moves, as an `f32`, by at most 1/16384
+    /// of the view box.
+    #[test]
+    fn drawings_survive_32_bit_floats_across_the_double_range(
+        family in 0usize..5,
+        seed in 0u64..1000,
+        k in -1000i32..1000,
+        shift in 0i32..64,
+        at in 0.0f64..1.0,
+    ) {
+        use wmslice::datasets::cross_check::{scaled, translated};
+        use wmslice::exact::rational::rat_from_f64;
+        let mesh = datasets::families::all()[family].generate(seed);
+        let moved = scaled(&mesh, k).and_then(|m| translated(&m, 2f64.powi(k + shift)));
+        proptest::prop_assume!(moved.is_some());
+        let m = moved.unwrap();
+        let slicer = Slicer::new(&m);
+        proptest::prop_assume!(slicer.is_ok());
+        let (lo, hi) = m.positions.iter().fold((f64::MAX, f64::MIN), |(l, h), p| (l.min(p[2]), h.max(p[2])));
+        let z = lo + at * (hi - lo);
+        let ls = slicer.unwrap().slice_at(&rat_from_f64(z)).expect("slice");
+        let els = parse(&level_svg(&ls, &Scene::new(&m, None), "x", &SvgOptions { arrows: true }));
+        let vb: Vec<f64> = drawing_of(&els).attrs["viewBox"].split(' ').map(|v| v.parse().unwrap()).collect();
+        let span = vb[2].max(vb[3]);
+        proptest::prop_assert!(span.is_finite() && span > 0.0, "{vb:?}");
+        // The drawing's elements: those inside the inner <svg>.
+        let inner = els.iter().position(|e| e.attrs.contains_key("data-frame")).unwrap();
+        let inside = |mut i: usize| loop {
+            match els[i].parent {
+                Some(p) if p == inner => break true,
+                Some(p) => i = p,
+                None => break false,
+            }
+        };
+        let numbers = drawn_numbers((0..els.len()).filter(|&i| inside(i)).map(|i| &els[i]));
+        proptest::prop_assert!(!numbers.is_empty() || ls.contours.is_empty());
+        for v in vb.iter().chain(&numbers) {
+            proptest::prop_assert!(v.is_finite(), "{v}");
+            proptest::prop_assert!((v - f64::from(*v as f32)).abs() <= span / 16384.0, "{v} in a box {span} wide");
+        }
+    }
 }
