@@ -6,7 +6,7 @@
 # and touching copies, f32 rounding, 2^k scales, coarse snap grids, corners
 # welded or not, collapsed faces refused or dropped; the slices, the
 # critical values, the z- and x-mirrors and the neighbouring regular
-# levels), and
+# levels), verify_result (verify's reader of result documents), and
 # slice_oracle when the CGAL,
 # GMP, MPFR and Boost headers are present. Each run starts from the seeds
 # in fuzz/corpus/seeds/TARGET and grows a scratch corpus in
@@ -55,6 +55,8 @@ parsers=(parse_stl parse_obj parse_off parse_ply parse_3mf parse_3mf_model)
 flags=(--sanitizer "$sanitizer" --no-trace-compares --debug-assertions
   --target-dir "$root/fuzz/target/all")
 slices=(slice_invariants adversarial)
+# verify's reader of result documents (seeds of a few kB each).
+checks=(verify_result)
 if [ "$have_cgal" = 1 ]; then
   flags+=(--features cgal-oracle)
   slices+=(slice_oracle)
@@ -114,10 +116,13 @@ if [ "$built" = 1 ]; then
   for t in "${slices[@]}"; do
     run "$t" "-max_len=256 -timeout=60" "${flags[@]}"
   done
+  for t in "${checks[@]}"; do
+    run "$t" "-max_len=8192 -timeout=60" "${flags[@]}"
+  done
 fi
 
 echo "== fuzz summary (${secs} s per target, $(($(date +%s) - start)) s in all)"
-for t in "${parsers[@]}" "${slices[@]}"; do
+for t in "${parsers[@]}" "${slices[@]}" "${checks[@]}"; do
   printf '%-18s %s\n' "$t" "${result[$t]:-not run}"
 done
 exit "$status"

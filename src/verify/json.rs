@@ -184,7 +184,13 @@ struct Parser<'a> {
 
 impl Parser<'_> {
     fn err(&self, kind: JsonErrorKind) -> JsonError {
-        let upto = &self.text[..self.i.min(self.text.len())];
+        // An error may stop inside a character (after `\` comes its first
+        // byte): the position is that character's.
+        let mut end = self.i.min(self.text.len());
+        while !self.text.is_char_boundary(end) {
+            end -= 1;
+        }
+        let upto = &self.text[..end];
         let line = upto.matches('\n').count() + 1;
         let column = upto.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
         JsonError { kind, line, column }
@@ -631,6 +637,17 @@ mod tests {
             parse("{\"k\": 1, \"k\": 2}").unwrap_err().kind,
             JsonErrorKind::DuplicateKey(_)
         ));
+    }
+
+    #[test]
+    fn an_escape_of_a_multibyte_character_is_an_error_at_that_character() {
+        // Found by fuzzing `verify`: the error's position was sliced inside
+        // the character and panicked.
+        for (text, column) in [("\"ab\\\u{186}\"", 5), ("{\"fes\\\u{1F600}x\": 1}", 7)] {
+            let e = parse(text).unwrap_err();
+            assert!(matches!(e.kind, JsonErrorKind::BadString), "{text:?}");
+            assert_eq!((e.line, e.column), (1, column), "{text:?}");
+        }
     }
 
     #[test]
