@@ -479,11 +479,12 @@ fn coarse_check(file: &CliFile) -> Result<(), CliWriteError> {
             }
         }
     }
-    if lo[0] > hi[0] {
-        return Ok(()); // no points
+    // Every value fits f32 here ([`check_binary`] refused the others), so
+    // no difference overflows.
+    let width = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+    if width <= 0.0 {
+        return Ok(()); // no points, or all at one point: nothing to resolve
     }
-    // Halves, so that no width overflows; every value fits f32 here.
-    let width = 2.0 * (hi[0] / 2.0 - lo[0] / 2.0).max(hi[1] / 2.0 - lo[1] / 2.0);
     let at = [lo[0], hi[0], lo[1], hi[1]]
         .into_iter()
         .fold(0.0f64, |m, v| m.max(v.abs()));
