@@ -273,6 +273,14 @@ impl<'a> R<'a> {
             0 => {
                 let (x, y, w) = (self.i128()?, self.i128()?, self.i128()?);
                 let e = self.u32()? as i32;
+                // A sliced point's exponent comes from doubles (2^-1074 ..
+                // 2^1024) and a snap grid's power of two (a grid outside
+                // 2^-1200 .. 2^1200 collapses every double): |e| stays below
+                // 2^12. Beyond 2^14 the bytes were not written by `encode`,
+                // and the exact value (2^e wide) would take forever.
+                if !(-(1 << 14)..=(1 << 14)).contains(&e) {
+                    return Err("point exponent".into());
+                }
                 LoopPoint::from_integers(x, y, w, e).ok_or_else(|| "point".into())
             }
             1 => Ok(LoopPoint::from(self.point2()?)),

@@ -567,7 +567,12 @@ impl Mesh {
         let stats = match snap {
             None => None,
             Some((grid, moved, max_move, merged)) => Some(SnapStats {
-                grid: parse_rational(&grid).map_err(|_| bad("grid"))?,
+                // A grid is positive (the unit every coordinate is
+                // multiplied by, and divided by when levels are mapped).
+                grid: parse_rational(&grid)
+                    .ok()
+                    .filter(|g| *g > Rat::from_integer(0.into()))
+                    .ok_or_else(|| bad("grid"))?,
                 moved,
                 max_move: parse_rational(&max_move).map_err(|_| bad("move"))?,
                 merged,

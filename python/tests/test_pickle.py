@@ -52,3 +52,34 @@ def test_a_corrupted_pickle_is_refused():
         fn(data[:-3])
     with pytest.raises(ValueError):
         fn(b"x" + data[1:])
+
+
+def test_a_level_pickle_holding_a_point_beyond_any_double_is_refused():
+    # Found by mutating pickles: a point's power of two set to 2^30 was
+    # decoded, and its exact value (2^30 bits wide) never finished. Every
+    # 4-byte window of the bytes set to 2^30: the windows on a point's
+    # exponent are refused by name, and none decodes to such a point.
+    m = wmslice.dataset("cylinder")
+    fn, (data,) = m.slice(1, exact=True)._level.__reduce__()
+    big = (1 << 30).to_bytes(4, "little")
+    refused = 0
+    for i in range(len(data) - 3):
+        try:
+            fn(data[:i] + big + data[i + 4:])
+        except ValueError as e:
+            refused += "point exponent" in str(e)
+    assert refused > 0
+
+
+def test_a_mesh_pickle_with_a_grid_not_positive_is_refused():
+    # Found by mutating pickles: a snap grid of 0 panicked (a zero
+    # denominator) instead of being refused.
+    v, f = torus(40, 12)
+    restore, args = wmslice.Mesh(v, f, snap="1/1000")._m.__reduce__()
+    import pytest
+
+    for grid in ("0", "-1/1000"):
+        snap = (grid,) + tuple(args[2][1:])
+        with pytest.raises(ValueError, match="grid"):
+            restore(args[0], args[1], snap, *args[3:])
+    assert restore(*args).sha256 == wmslice.Mesh(v, f, snap="1/1000").sha256
