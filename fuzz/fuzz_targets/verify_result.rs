@@ -3,8 +3,11 @@
 //! shoulder, holes). Output: nothing; panics only on a bug. `verify` reads
 //! results other programs wrote, through its own streaming JSON reader:
 //! whatever the text, it returns a report or a named error, never panics.
-//! The seeds are the command line's own results (plain and `--exact`),
-//! which verify clean; mutations of them reach every check.
+//! The seeds are the command line's own results (`--exact`), which verify
+//! clean; mutations of them reach every check. And the reader accepts
+//! JSON only: what it parses, serde_json parses too (but for numbers
+//! beyond a double's range, which it keeps as text, and nesting deeper
+//! than serde_json's limit).
 #![no_main]
 
 use std::sync::OnceLock;
@@ -25,4 +28,13 @@ fuzz_target!(|data: &[u8]| {
     };
     let verifier = Verifier::new(mesh, None).expect("peg_cube is valid");
     let _ = verifier.verify(text);
+    if wmslice::verify::json::parse(text).is_ok() {
+        if let Err(e) = serde_json::from_str::<serde_json::Value>(text) {
+            let why = e.to_string();
+            assert!(
+                why.contains("number out of range") || why.contains("recursion limit"),
+                "the reader took what serde_json refuses ({why}): {text:?}"
+            );
+        }
+    }
 });

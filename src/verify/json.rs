@@ -387,9 +387,12 @@ impl Parser<'_> {
     }
 
     fn hex4(&mut self) -> Result<u32, JsonError> {
+        // Four hex digits exactly (`from_str_radix` alone would take a
+        // sign: `\u+FFF`).
         let h = self
             .s
             .get(self.i..self.i + 4)
+            .filter(|h| h.iter().all(u8::is_ascii_hexdigit))
             .and_then(|h| std::str::from_utf8(h).ok())
             .and_then(|h| u32::from_str_radix(h, 16).ok())
             .ok_or_else(|| self.err(JsonErrorKind::BadString))?;
@@ -630,6 +633,8 @@ mod tests {
             "[1,]",
             "\"a\nb\"",
             "\"\\ud800\"",
+            "\"\\u+FFF\"",
+            "\"\\u-001\"",
         ] {
             assert!(parse(bad).is_err(), "{bad:?} must be rejected");
         }
