@@ -690,6 +690,10 @@ fn a_cylinder_far_out_or_scaled_to_1e_minus_300_is_drawn_as_at_home() {
                 wmslice::exact::rational::rat_to_f64(&area)
             );
             assert!(dom.contains(&cell), "{cell} in the table");
+            // The level, 2^-1000, has 300 digits: the heading shows its
+            // nearest double, the exact level on hover.
+            assert_eq!(text_of(&dom, "level"), format!("~{:e}", 2f64.powi(-1000)));
+            assert!(dom.contains(&format!("title=\"{}\"", rat_to_string(&z))));
         }
         counts.push((
             img.count(rect, fill),

@@ -318,8 +318,17 @@ const SCRIPT: &str = r#"(function () {
     view.setAttribute('viewBox', l.viewBox);
     view.setAttribute('data-frame', l.frame);
     view.innerHTML = l.svg;
-    $('level').textContent = l.z;
-    $('approx').textContent = '(~' + l.approx + ')';
+    // A level too long for the heading (hundreds of digits on a part at
+    // 1e-300) shows its nearest double; the exact level is on hover.
+    if (l.z.length <= 40) {
+      $('level').textContent = l.z;
+      $('level').removeAttribute('title');
+      $('approx').textContent = '(~' + l.approx + ')';
+    } else {
+      $('level').textContent = '~' + l.approx;
+      $('level').setAttribute('title', l.z);
+      $('approx').textContent = '(exact on hover)';
+    }
     $('heading').textContent = l.heading;
     $('note').textContent = l.note;
     $('index').textContent = String(cur);
