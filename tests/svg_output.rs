@@ -113,14 +113,20 @@ fn subpaths(e: &El) -> usize {
     e.attrs["d"].matches('M').count()
 }
 
-/// Every (x, y) of a path's `d`.
-fn coords(e: &El) -> Vec<[f64; 2]> {
-    let nums: Vec<f64> = e.attrs["d"]
-        .split(|c: char| c.is_ascii_alphabetic() || c.is_whitespace())
+/// Every number of a path's data, in order.
+fn path_numbers(d: &str) -> Vec<f64> {
+    d.split(|c: char| c.is_ascii_alphabetic() || c.is_whitespace())
         .filter(|t| !t.is_empty())
         .map(|t| t.parse().expect("number"))
-        .collect();
-    nums.chunks_exact(2).map(|p| [p[0], p[1]]).collect()
+        .collect()
+}
+
+/// Every (x, y) of a path's `d`.
+fn coords(e: &El) -> Vec<[f64; 2]> {
+    path_numbers(&e.attrs["d"])
+        .chunks_exact(2)
+        .map(|p| [p[0], p[1]])
+        .collect()
 }
 
 #[test]
@@ -660,11 +666,7 @@ fn drawn_numbers<'a>(els: impl IntoIterator<Item = &'a El>) -> Vec<f64> {
     let mut out = Vec::new();
     for e in els {
         if let Some(d) = e.attrs.get("d") {
-            out.extend(
-                d.split(|c: char| c.is_ascii_alphabetic() || c.is_whitespace())
-                    .filter(|t| !t.is_empty())
-                    .map(|t| t.parse::<f64>().expect("number")),
-            );
+            out.extend(path_numbers(d));
         }
         for k in ["cx", "cy", "r"] {
             if let Some(v) = e.attrs.get(k) {
