@@ -6,7 +6,8 @@
 # and touching copies, f32 rounding, 2^k scales, coarse snap grids, corners
 # welded or not, collapsed faces refused or dropped; the slices, the
 # critical values, the z- and x-mirrors and the neighbouring regular
-# levels), verify_result (verify's reader of result documents), and
+# levels), verify_result (verify's reader of result documents),
+# pickled_level (the Python package's level pickles), and
 # slice_oracle when the CGAL,
 # GMP, MPFR and Boost headers are present. Each run starts from the seeds
 # in fuzz/corpus/seeds/TARGET and grows a scratch corpus in
@@ -55,8 +56,9 @@ parsers=(parse_stl parse_obj parse_off parse_ply parse_3mf parse_3mf_model)
 flags=(--sanitizer "$sanitizer" --no-trace-compares --debug-assertions
   --target-dir "$root/fuzz/target/all")
 slices=(slice_invariants adversarial)
-# verify's reader of result documents (seeds of a few kB each).
-checks=(verify_result)
+# verify's reader of result documents and the Python package's level
+# pickles (seeds of a few kB each).
+checks=(verify_result pickled_level)
 if [ "$have_cgal" = 1 ]; then
   flags+=(--features cgal-oracle)
   slices+=(slice_oracle)
