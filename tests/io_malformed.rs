@@ -191,7 +191,8 @@ fn ascii_stl_parses_f64_text_exactly_and_fans_polygons() {
     assert_eq!(ids(&mesh), vec![[0, 1, 2], [0, 2, 3]]);
     assert!(report.notes.contains(&LoadNote::Triangulated {
         polygons: 1,
-        triangles: 2
+        triangles: 2,
+        ear_clipped: 0,
     }));
 }
 
@@ -378,7 +379,8 @@ fn obj_quad_is_triangulated_with_a_note() {
     assert_eq!(ids(&mesh), vec![[0, 1, 2], [0, 2, 3]]);
     assert!(report.notes.contains(&LoadNote::Triangulated {
         polygons: 1,
-        triangles: 2
+        triangles: 2,
+        ear_clipped: 0,
     }));
     assert!(report.notes.contains(&LoadNote::Ignored {
         kind: "line and point elements".into(),
@@ -671,7 +673,8 @@ fn binary_off_polygons_become_fans() {
         assert_eq!(mesh.faces.len(), 6);
         assert!(report.notes.contains(&LoadNote::Triangulated {
             polygons: 1,
-            triangles: 2
+            triangles: 2,
+            ear_clipped: 0,
         }));
     }
 }

@@ -29,6 +29,7 @@ mod obj;
 mod off;
 mod off_binary;
 mod ply;
+mod polygon;
 mod stl;
 mod text;
 mod threemf;
@@ -137,12 +138,15 @@ impl fmt::Display for MeshFormat {
 /// What the loader did besides reading: one typed note per step.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum LoadNote {
-    /// Polygons with more than three vertices were split into fans.
+    /// Polygons with more than three vertices were split into fans, or,
+    /// flat ones whose fan would fold, by ear clipping.
     Triangulated {
         /// Polygons split.
         polygons: usize,
         /// Triangles they became.
         triangles: usize,
+        /// Of those polygons, the ones split by ear clipping.
+        ear_clipped: usize,
     },
     /// PLY triangle strips were split into triangles.
     Strips {
@@ -217,9 +221,20 @@ impl fmt::Display for LoadNote {
             LoadNote::Triangulated {
                 polygons,
                 triangles,
+                ear_clipped: 0,
             } => write!(
                 f,
                 "triangulated {polygons} polygons into {triangles} triangles (fans)"
+            ),
+            LoadNote::Triangulated {
+                polygons,
+                triangles,
+                ear_clipped,
+            } => write!(
+                f,
+                "triangulated {polygons} polygons into {triangles} triangles (fans; \
+                 {ear_clipped} flat ones that are not convex by ear clipping, as \
+                 their fans would fold)"
             ),
             LoadNote::Strips {
                 strips,

@@ -1,5 +1,6 @@
 //! Input: Wavefront OBJ bytes. Output: a [`Mesh`] of all `v` and `f`
-//! statements of all objects and groups (merged), polygons split into fans;
+//! statements of all objects and groups (merged), polygons split into fans
+//! (or, flat ones whose fan would fold, by ear clipping: `polygon.rs`);
 //! and the OBJ writer.
 //!
 //! Hand-written reader: tobj drops unused vertices and renumbers the rest
@@ -100,7 +101,8 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
     }
 
     let mut notes = Vec::new();
-    notes.extend(sink.note());
+    let (faces, triangulated) = sink.finish(&positions);
+    notes.extend(triangulated);
     if lines_and_points > 0 {
         notes.push(LoadNote::Ignored {
             kind: "line and point elements".to_owned(),
@@ -113,10 +115,7 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
             count: unknown,
         });
     }
-    let mesh = Mesh {
-        positions,
-        faces: sink.faces,
-    };
+    let mesh = Mesh { positions, faces };
     Ok((
         mesh,
         LoadReport {

@@ -1,6 +1,7 @@
 //! Input: OFF bytes (`OFF`, `COFF`, `NOFF`, `CNOFF`, `STOFF`, ... in 3D,
 //! ASCII; binary OFF, `OFF BINARY`, is read by `off_binary.rs`). Output: a
-//! [`Mesh`], polygons split into fans; and the OFF writer.
+//! [`Mesh`], polygons split into fans (or, flat ones whose fan would fold,
+//! by ear clipping: `polygon.rs`); and the OFF writer.
 //!
 //! Hand-written: no maintained crate reads OFF; the format is a header line,
 //! counts, one vertex per line, one face per line.
@@ -243,11 +244,9 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
     }
 
     let mut notes: Vec<LoadNote> = Vec::new();
-    notes.extend(sink.note());
-    let mesh = Mesh {
-        positions,
-        faces: sink.faces,
-    };
+    let (faces, triangulated) = sink.finish(&positions);
+    notes.extend(triangulated);
+    let mesh = Mesh { positions, faces };
     Ok((
         mesh,
         LoadReport {

@@ -1,6 +1,6 @@
 //! Input: the bytes of a binary OFF file after its `OFF BINARY` header line,
-//! and the header's keyword. Output: a [`Mesh`] (polygons split into fans)
-//! and the layout it was read in.
+//! and the header's keyword. Output: a [`Mesh`] (polygons split into fans,
+//! or by ear clipping as in `polygon.rs`) and the layout it was read in.
 //!
 //! Binary OFF holds 32-bit values: the vertex, face and edge counts; per
 //! vertex `x y z` as `f32`, then a normal (3 `f32`, prefix `N`), a color
@@ -279,11 +279,12 @@ pub(super) fn read(data: &[u8], keyword: &[u8]) -> Result<(Mesh, LoadReport), Lo
     // The same walk as the trial that passed: it passes again.
     walk(data, layout, per_vertex, Some(&mut b))?.ok_or_else(no_layout)?;
     let mut notes = vec![LoadNote::BinaryOffLayout(layout)];
-    notes.extend(b.sink.note());
+    let (faces, triangulated) = b.sink.finish(&b.positions);
+    notes.extend(triangulated);
     Ok((
         Mesh {
             positions: b.positions,
-            faces: b.sink.faces,
+            faces,
         },
         LoadReport {
             format: FORMAT,

@@ -1,7 +1,8 @@
 //! Input: PLY bytes (ASCII, binary little or big endian). Output: a
 //! [`Mesh`] from the `vertex` element (`x`, `y`, `z` of any numeric type,
 //! converted to `f64` exactly) and the `face` element (`vertex_indices` or
-//! `vertex_index`, a list of any integer type), polygons split into fans,
+//! `vertex_index`, a list of any integer type), polygons split into fans
+//! (or, flat ones whose fan would fold, by ear clipping: `polygon.rs`),
 //! or from the `tristrips` element of scanned models (strips separated by
 //! `-1`, every other triangle turned, joints with a repeated id
 //! dropped); and the PLY writer (doubles, `uint` indices).
@@ -353,7 +354,8 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
 
     let mut notes: Vec<LoadNote> = Vec::new();
     notes.extend(header_note);
-    notes.extend(sink.note());
+    let (faces, triangulated) = sink.finish(&positions);
+    notes.extend(triangulated);
     notes.extend(strips.note());
     for (name, count) in ignored {
         notes.push(LoadNote::Ignored {
@@ -367,10 +369,7 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
             bytes: bytes.len() as u64 - end,
         });
     }
-    let mesh = Mesh {
-        positions,
-        faces: sink.faces,
-    };
+    let mesh = Mesh { positions, faces };
     Ok((mesh, LoadReport { format, notes }))
 }
 

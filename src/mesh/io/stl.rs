@@ -435,6 +435,7 @@ fn read_ascii(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
         notes.push(LoadNote::Triangulated {
             polygons,
             triangles: fan_triangles,
+            ear_clipped: 0,
         });
     }
     if unreadable_normals > 0 {

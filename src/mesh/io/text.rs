@@ -125,12 +125,16 @@ pub(super) fn is_digits(t: &[u8]) -> bool {
     !t.is_empty() && t.iter().all(u8::is_ascii_digit)
 }
 
-/// Collects faces, splitting polygons into fans, counting what it did.
+/// Collects faces, splitting polygons into fans (and, once the vertices
+/// are read, ear clipping flat ones whose fans would fold), counting what
+/// it did.
 pub(super) struct FaceSink {
     format: MeshFormat,
     pub(super) faces: Vec<[VertexId; 3]>,
     polygons: usize,
     fan_triangles: usize,
+    /// Each polygon's first triangle in `faces` and its vertex count.
+    polygon_at: Vec<(usize, usize)>,
     /// Faces read from the file (before triangulation), for error messages.
     pub(super) read: usize,
 }
@@ -142,6 +146,7 @@ impl FaceSink {
             faces: Vec::with_capacity(capacity),
             polygons: 0,
             fan_triangles: 0,
+            polygon_at: Vec::new(),
             read: 0,
         }
     }
@@ -169,23 +174,50 @@ impl FaceSink {
                 limit: MAX_ELEMENTS as u64,
             });
         }
+        if new > 1 {
+            self.polygons += 1;
+            self.fan_triangles += new;
+            self.polygon_at.push((self.faces.len(), ids.len()));
+        }
         for pair in rest.windows(2) {
             self.faces
                 .push([VertexId(first), VertexId(pair[0]), VertexId(pair[1])]);
         }
-        if new > 1 {
-            self.polygons += 1;
-            self.fan_triangles += new;
-        }
         Ok(())
     }
 
-    /// The triangulation note, if any polygon was split.
-    pub(super) fn note(&self) -> Option<LoadNote> {
-        (self.polygons > 0).then_some(LoadNote::Triangulated {
+    /// The faces, once every vertex is read: a flat polygon whose fan
+    /// would fold is split by ear clipping instead ([`super::polygon`]);
+    /// and the triangulation note, if any polygon was split.
+    pub(super) fn finish(
+        mut self,
+        positions: &[[f64; 3]],
+    ) -> (Vec<[VertexId; 3]>, Option<LoadNote>) {
+        let mut ear_clipped = 0;
+        let mut budget = super::polygon::EAR_CLIPPING_BUDGET;
+        let mut ids = Vec::new();
+        for &(at, n) in &self.polygon_at {
+            let fan = &self.faces[at..at + n - 2];
+            ids.clear();
+            ids.extend(
+                [fan[0][0], fan[0][1]]
+                    .iter()
+                    .chain(fan.iter().map(|t| &t[2]))
+                    .map(|v| v.0),
+            );
+            if let Some(tris) = super::polygon::untangled(&ids, positions, &mut budget) {
+                for (face, t) in self.faces[at..at + n - 2].iter_mut().zip(tris) {
+                    *face = t.map(VertexId);
+                }
+                ear_clipped += 1;
+            }
+        }
+        let note = (self.polygons > 0).then_some(LoadNote::Triangulated {
             polygons: self.polygons,
             triangles: self.fan_triangles,
-        })
+            ear_clipped,
+        });
+        (self.faces, note)
     }
 }
 
