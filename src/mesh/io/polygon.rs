@@ -42,11 +42,13 @@ pub(super) fn untangled(
     if p.iter().flatten().any(|c| !c.is_finite()) {
         return None;
     }
-    let (i, j) = projection(&p)?;
+    let (b, c) = spanning(&p)?;
+    let (i, j) = projection(p[0], b, c)?;
     let fan = |k: usize| orient2d_axes(p[0], p[k], p[k + 1], i, j);
     let signs: Vec<Sign> = (1..p.len() - 1).map(fan).collect();
     let folds = signs.contains(&Sign::Positive) && signs.contains(&Sign::Negative);
-    if !folds || !planar(&p) {
+    // Exactly in the plane of `p[0]`, `b`, `c`.
+    if !folds || !p.iter().all(|&d| orient3d(p[0], b, c, d) == Sign::Zero) {
         return None;
     }
     let n = p.len() as u64;
@@ -59,20 +61,26 @@ pub(super) fn untangled(
     })
 }
 
-/// The axes `(i, j)` of a projection that keeps the polygon's plane from
-/// collapsing: the one of the first non-collinear corner triangle's three
-/// with the largest projected area (a choice; any with a non-zero one
-/// keeps every orientation of a planar polygon, exactly). `None` when
-/// every vertex lies on one line.
-fn projection(p: &[[f64; 3]]) -> Option<(usize, usize)> {
-    const PLANES: [(usize, usize); 3] = [(1, 2), (2, 0), (0, 1)];
-    let a = p[0];
-    let c = p[1..].windows(2).find(|w| {
+/// The three planes of projection, as the axes `(i, j)` they keep.
+const PLANES: [(usize, usize); 3] = [(1, 2), (2, 0), (0, 1)];
+
+/// Two consecutive vertices that span a plane with the first vertex (not
+/// on one line with it, exactly); `None` when every vertex lies on one
+/// line.
+fn spanning(p: &[[f64; 3]]) -> Option<([f64; 3], [f64; 3])> {
+    p[1..].windows(2).find_map(|w| {
         PLANES
             .iter()
-            .any(|&(i, j)| orient2d_axes(a, w[0], w[1], i, j) != Sign::Zero)
-    })?;
-    let (b, c) = (c[0], c[1]);
+            .any(|&(i, j)| orient2d_axes(p[0], w[0], w[1], i, j) != Sign::Zero)
+            .then_some((w[0], w[1]))
+    })
+}
+
+/// The axes `(i, j)` of a projection that keeps the plane of `a`, `b`,
+/// `c` (not on one line) from collapsing: of the three, the one with the
+/// largest projected area (a choice; any with a non-zero one keeps every
+/// orientation of a planar polygon, exactly).
+fn projection(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> Option<(usize, usize)> {
     let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
     let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
     // The cross product in doubles picks the plane; the exact orientation
@@ -88,22 +96,6 @@ fn projection(p: &[[f64; 3]]) -> Option<(usize, usize)> {
         .into_iter()
         .map(|k| PLANES[k])
         .find(|&(i, j)| orient2d_axes(a, b, c, i, j) != Sign::Zero)
-}
-
-/// Whether every vertex lies in one plane, exactly.
-fn planar(p: &[[f64; 3]]) -> bool {
-    let a = p[0];
-    // Three vertices spanning the plane: the first, and a pair with it
-    // not on one line (some exists: `projection` found one).
-    let Some((b, c)) = p[1..].windows(2).find_map(|w| {
-        let spans = [(1, 2), (2, 0), (0, 1)]
-            .iter()
-            .any(|&(i, j)| orient2d_axes(a, w[0], w[1], i, j) != Sign::Zero);
-        spans.then_some((w[0], w[1]))
-    }) else {
-        return true;
-    };
-    p.iter().all(|&d| orient3d(a, b, c, d) == Sign::Zero)
 }
 
 /// The polygon's turning sense in the projection: that of its corner at
