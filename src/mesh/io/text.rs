@@ -131,10 +131,11 @@ pub(super) fn is_digits(t: &[u8]) -> bool {
 pub(super) struct FaceSink {
     format: MeshFormat,
     pub(super) faces: Vec<[VertexId; 3]>,
-    polygons: usize,
     fan_triangles: usize,
-    /// Each polygon's first triangle in `faces` and its vertex count.
-    polygon_at: Vec<(usize, usize)>,
+    /// Each polygon's first triangle in `faces` and its number of
+    /// triangles (both within [`MAX_ELEMENTS`], so `u32`: 8 bytes a
+    /// polygon).
+    polygon_at: Vec<(u32, u32)>,
     /// Faces read from the file (before triangulation), for error messages.
     pub(super) read: usize,
 }
@@ -144,7 +145,6 @@ impl FaceSink {
         FaceSink {
             format,
             faces: Vec::with_capacity(capacity),
-            polygons: 0,
             fan_triangles: 0,
             polygon_at: Vec::new(),
             read: 0,
@@ -175,9 +175,9 @@ impl FaceSink {
             });
         }
         if new > 1 {
-            self.polygons += 1;
             self.fan_triangles += new;
-            self.polygon_at.push((self.faces.len(), ids.len()));
+            // Within the element limit checked above.
+            self.polygon_at.push((self.faces.len() as u32, new as u32));
         }
         for pair in rest.windows(2) {
             self.faces
@@ -196,8 +196,9 @@ impl FaceSink {
         let mut ear_clipped = 0;
         let mut budget = super::polygon::EAR_CLIPPING_BUDGET;
         let mut ids = Vec::new();
-        for &(at, n) in &self.polygon_at {
-            let fan = &self.faces[at..at + n - 2];
+        for &(at, triangles) in &self.polygon_at {
+            let range = at as usize..at as usize + triangles as usize;
+            let fan = &self.faces[range.clone()];
             ids.clear();
             ids.extend(
                 [fan[0][0], fan[0][1]]
@@ -206,14 +207,14 @@ impl FaceSink {
                     .map(|v| v.0),
             );
             if let Some(tris) = super::polygon::untangled(&ids, positions, &mut budget) {
-                for (face, t) in self.faces[at..at + n - 2].iter_mut().zip(tris) {
+                for (face, t) in self.faces[range].iter_mut().zip(tris) {
                     *face = t.map(VertexId);
                 }
                 ear_clipped += 1;
             }
         }
-        let note = (self.polygons > 0).then_some(LoadNote::Triangulated {
-            polygons: self.polygons,
+        let note = (!self.polygon_at.is_empty()).then_some(LoadNote::Triangulated {
+            polygons: self.polygon_at.len(),
             triangles: self.fan_triangles,
             ear_clipped,
         });
