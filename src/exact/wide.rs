@@ -66,12 +66,26 @@ pub fn crossing_denominator_bits(a: [f64; 3], b: [f64; 3], level: &Level) -> Opt
             return 1;
         }
         let m = n.unsigned_abs();
-        let g = super::point::gcd_u128((m % U256::from(odd)).as_u128(), odd);
+        let g = super::point::gcd_u128(rem_u128(m, odd), odd);
         let odd_bits = u64::from(128 - (odd / g).leading_zeros());
         let twos = i64::from(tw) - i64::from(m.trailing_zeros()) - i64::from(e0);
         odd_bits + twos.max(0) as u64
     };
     Some(bits(x) + bits(y))
+}
+
+/// `m mod d` (`d > 0`). A divisor below `2^64` (most crossings' odd
+/// denominators) is taken a 64-bit word of `m` at a time, each step a
+/// `u128` remainder whose dividend `r 2^64 + word < d 2^64` fits; a wider
+/// one by `U256`'s own division.
+fn rem_u128(m: U256, d: u128) -> u128 {
+    if d > u128::from(u64::MAX) {
+        return (m % U256::from(d)).as_u128();
+    }
+    let (high, low) = m.into_words();
+    [low >> 64, low & u128::from(u64::MAX)]
+        .into_iter()
+        .fold(high % d, |r, word| ((r << 64) | word) % d)
 }
 
 /// `(X, Y, W, e0)` with the crossing `(X 2^e0 / W, Y 2^e0 / W)`, `W > 0`,
@@ -333,6 +347,34 @@ mod tests {
         assert_eq!(bits([1.0, 0.25, 3.0], "0"), 2);
         // (5/7 2^-3, 5/7 2^60): 7 2^3 below x's line, 7 below y's.
         assert_eq!(bits([0.125, 2f64.powi(60), 7.0], "5"), 6 + 3);
+    }
+
+    #[test]
+    fn remainders_by_hand() {
+        let m = U256::from_words(u128::MAX, u128::MAX);
+        // 2^256 - 1 is a multiple of 2^64 - 1 and of 3; 2^256 = 2 (mod 7).
+        assert_eq!(rem_u128(m, u128::from(u64::MAX)), 0);
+        assert_eq!(rem_u128(m, 3), 0);
+        assert_eq!(rem_u128(m - U256::from(6u8), 7), 2);
+        assert_eq!(rem_u128(U256::from(10u8), 1), 0);
+        assert_eq!(rem_u128(U256::from(10u8), 11), 10);
+        // 2^200 mod (2^64 + 1): 2^64 = -1, so 2^200 = 2^8 (2^64)^3 = -2^8.
+        let d = (1u128 << 64) + 1;
+        assert_eq!(rem_u128(U256::ONE << 200, d), d - 256);
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(4096))]
+        /// The word-by-word remainder equals `U256`'s, for dividends over
+        /// all 256 bits and divisors of every width up to 128 bits.
+        #[test]
+        fn remainders_equal_u256s(
+            high in any::<u128>(), low in any::<u128>(), d in 1u128.., width in 1u32..=128,
+        ) {
+            let d = (d >> (128 - width)).max(1);
+            let m = U256::from_words(high, low);
+            prop_assert_eq!(rem_u128(m, d), (m % U256::from(d)).as_u128());
+        }
     }
 
     proptest! {
