@@ -559,6 +559,116 @@ fn usage_and_output_errors_have_their_codes_and_leave_no_file() {
     assert!(!cert.exists() && !out.exists());
 }
 
+#[test]
+fn an_output_naming_the_mesh_a_levels_file_or_another_output_is_refused_before_any_work() {
+    // Before, `slice part.stl -o part.stl` renamed the result over the
+    // part (exit 0, the mesh gone) and `-o r.json --certificate r.json`
+    // kept only the certificate.
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join("part.off");
+    let bytes = off(
+        &[
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ],
+        &[[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
+    );
+    std::fs::write(&mesh, &bytes).unwrap();
+    let levels = dir.path().join("levels.txt");
+    std::fs::write(&levels, "1/2\n").unwrap();
+    let link = dir.path().join("link.off");
+    std::os::unix::fs::symlink(&mesh, &link).unwrap();
+    let result = dir.path().join("r.json");
+    let spelled = dir.path().join(".").join("part.off");
+    for (args, said) in [
+        (
+            vec![
+                "slice",
+                s(&mesh),
+                "--at",
+                "1/2",
+                "--format",
+                "json",
+                "-o",
+                s(&spelled),
+            ],
+            "names the same file as the mesh",
+        ),
+        (
+            vec![
+                "slice",
+                s(&link),
+                "--at",
+                "1/2",
+                "--format",
+                "svg",
+                "-o",
+                s(&mesh),
+            ],
+            "names the same file as the mesh",
+        ),
+        (
+            vec![
+                "slice",
+                s(&mesh),
+                "--levels-file",
+                s(&levels),
+                "--format",
+                "json",
+                "-o",
+                s(&levels),
+            ],
+            "names the same file as --levels-file",
+        ),
+        (
+            vec![
+                "slice",
+                s(&mesh),
+                "--at",
+                "1/2",
+                "--format",
+                "json",
+                "-o",
+                s(&result),
+                "--certificate",
+                s(&result),
+            ],
+            "one output would replace the other",
+        ),
+        (
+            vec!["critical", s(&mesh), "--format", "json", "-o", s(&mesh)],
+            "names the same file as the mesh",
+        ),
+    ] {
+        let (code, _, err) = wmslice(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(said), "{args:?}: {err}");
+        assert!(!err.contains("note: read"), "refused before reading: {err}");
+    }
+    assert_eq!(
+        std::fs::read(&mesh).unwrap(),
+        bytes,
+        "the mesh is untouched"
+    );
+    assert_eq!(std::fs::read_to_string(&levels).unwrap(), "1/2\n");
+    assert!(!result.exists());
+    // Distinct paths still work.
+    let (code, _, err) = wmslice(&[
+        "slice",
+        s(&mesh),
+        "--levels-file",
+        s(&levels),
+        "--format",
+        "json",
+        "-o",
+        s(&result),
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+}
+
 /// The unit cube sliced at 1/2 with exact JSON into `dir` (a result
 /// `verify` reads).
 fn exact_cube_result(dir: &Path) -> std::path::PathBuf {

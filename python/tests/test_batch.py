@@ -82,6 +82,21 @@ def test_batch_errors(cli, scratch, parts):
         slice_files([str(bad)], scratch / "o", layer_height="0.1")
     # Nothing half-written.
     assert not any(p.name.startswith("open") for p in (scratch / "o").iterdir())
+    # Two parts that would write one file: one stem in two folders, and a
+    # part whose JSON would be another's certificate. Refused before any
+    # work, naming the file.
+    twin = scratch / "twin" / os.path.basename(parts[0])
+    twin.parent.mkdir(exist_ok=True)
+    twin.write_bytes(open(parts[0], "rb").read())
+    clash = scratch / "in" / "double_torus.cert.stl"
+    clash.write_bytes(open(parts[0], "rb").read())
+    for pair, name in (([parts[0], str(twin)], "double_torus.json"), ([parts[0], str(clash)], "double_torus.cert.json")):
+        with pytest.raises(ValueError, match=name.replace(".", r"\.")):
+            slice_files(pair, scratch / "clash", layer_height="0.1")
+        assert not (scratch / "clash").exists() or not any((scratch / "clash").iterdir())
+    # Without certificates the second pair writes two distinct files.
+    slice_files([parts[0], str(clash)], scratch / "nocert", layer_height="0.1", certificate=False)
+    assert sorted(os.listdir(scratch / "nocert")) == ["double_torus.cert.json", "double_torus.json"]
 
 
 def near_cube(scratch):

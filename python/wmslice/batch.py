@@ -45,14 +45,19 @@ def _join(path, output, certificate, snap, exact, drop_collapsed, weld, shards):
 
 
 def _outputs(paths: list[str], out_dir: Path, certificate: bool) -> list[tuple[str, str | None]]:
+    # Every file name written, and the part that writes it: `a/x.stl` and
+    # `b/x.stl` would both write x.json; with certificates, `x.cert.stl`
+    # would write x's certificate.
     seen: dict[str, str] = {}
     out = []
     for p in paths:
         stem = Path(p).stem
-        if stem in seen:
-            raise ValueError(f"{p} and {seen[stem]} would both write {stem}.json: rename one")
-        seen[stem] = p
-        out.append((str(out_dir / f"{stem}.json"), str(out_dir / f"{stem}.cert.json") if certificate else None))
+        names = [f"{stem}.json"] + ([f"{stem}.cert.json"] if certificate else [])
+        for name in names:
+            if name in seen:
+                raise ValueError(f"{p} and {seen[name]} would both write {name}: rename one")
+        seen.update((name, p) for name in names)
+        out.append((str(out_dir / names[0]), str(out_dir / names[1]) if certificate else None))
     return out
 
 

@@ -4,8 +4,10 @@
 
 use super::args::{CriticalArgs, CriticalFormat};
 use super::input::load_input;
+use super::paths::{refuse_overwriting, Named};
 use super::progress::step;
 use super::{emit, slice_error, usage, worker_pool, ExitCode, Failure};
+use std::path::Path;
 use wmslice::critical::fit::PlanReport;
 use wmslice::critical::{self, CriticalReport};
 use wmslice::exact::parse_rational;
@@ -41,6 +43,13 @@ fn plan(
 
 /// Runs `critical`.
 pub fn run(a: CriticalArgs) -> Result<(), Failure> {
+    if let Some(path) = a.output.as_deref() {
+        let mesh = Named {
+            role: "the mesh",
+            path: Path::new(&a.mesh),
+        };
+        refuse_overwriting(&[mesh], &[Named { role: "-o", path }])?;
+    }
     let (_, pool) = worker_pool(a.threads)?;
     let reading = step("reading and welding the mesh", false);
     let input = pool.install(|| load_input(&a.mesh, a.snap.as_deref(), a.repairs.repairs()));

@@ -2,6 +2,7 @@
 //! families, or write a random mesh of one family with its answers.
 
 use super::args::GenArgs;
+use super::paths::{refuse_overwriting, Named};
 use super::{emit, usage, ExitCode, Failure, Tag};
 use crate::say;
 use wmslice::datasets;
@@ -22,6 +23,19 @@ pub fn run(a: GenArgs) -> Result<(), Failure> {
         return Ok(());
     }
     let out = a.output.ok_or_else(|| usage("missing -o FILE".into()))?;
+    if let Some(path) = a.answers.as_deref() {
+        let outputs = [
+            Named {
+                role: "-o",
+                path: &out,
+            },
+            Named {
+                role: "--answers",
+                path,
+            },
+        ];
+        refuse_overwriting(&[], &outputs)?;
+    }
     if let Some(seed) = a.random {
         let name = a.family.unwrap_or_default();
         let f = families::by_name(&name).ok_or_else(|| {

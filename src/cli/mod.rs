@@ -13,6 +13,7 @@ mod critical;
 mod demo;
 mod gen;
 mod input;
+mod paths;
 mod progress;
 mod render;
 mod slice;

@@ -3,10 +3,12 @@
 
 use super::args::{Format, SliceArgs};
 use super::input::{load_input, Input};
+use super::paths::{refuse_overwriting, Named};
 use super::progress::{progress, step};
 use super::{emit, slice_error, usage, worker_pool, ExitCode, Failure, Tag};
 use anyhow::anyhow;
 use std::io::Write;
+use std::path::Path;
 use std::time::{Duration, Instant};
 use wmslice::critical::{
     self,
@@ -138,6 +140,25 @@ fn sweep_error(e: SweepError<std::io::Error>) -> Failure {
 
 /// Runs `slice`.
 pub fn run(a: SliceArgs) -> Result<(), Failure> {
+    let mesh = Path::new(&a.mesh);
+    let mut inputs = vec![Named {
+        role: "the mesh",
+        path: mesh,
+    }];
+    inputs.extend(a.levels_file.as_deref().map(|path| Named {
+        role: "--levels-file",
+        path,
+    }));
+    let outputs: Vec<Named> = [("-o", &a.output), ("--certificate", &a.certificate)]
+        .into_iter()
+        .filter_map(|(role, p)| {
+            Some(Named {
+                role,
+                path: p.as_deref()?,
+            })
+        })
+        .collect();
+    refuse_overwriting(&inputs, &outputs)?;
     let explicit = parse_levels(&a)?;
     let uniform = parse_uniform(&a)?;
     // Welding and validation run on the workers too.
