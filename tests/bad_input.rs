@@ -514,6 +514,16 @@ fn usage_and_output_errors_have_their_codes_and_leave_no_file() {
             &["check", "unit_cube", "--snap", "0"][..],
             "snap grid must be positive, got 0",
         ),
+        // Idle workers search each other's queues: 40 000 of them on 2
+        // cores did not slice the unit cube in 100 s.
+        (
+            &["slice", "unit_cube", "--at", "1/2", "--threads", "1000000"][..],
+            "--threads 1000000: at most",
+        ),
+        (
+            &["critical", "unit_cube", "--threads", "1000000"][..],
+            "--threads 1000000: at most",
+        ),
     ] {
         let (code, _, err) = wmslice(args);
         assert_eq!(code, 2, "{args:?}: {err}");

@@ -542,9 +542,7 @@ pub fn slice_part<'py>(
             None => Vec::new(),
         },
     };
-    let threads = threads
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
-        .max(1);
+    let threads = crate::mesh::thread_count(threads.map(|t| t.max(1)))?;
     let r = py.detach(|| {
         run_part(
             &path,

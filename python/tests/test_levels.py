@@ -39,6 +39,10 @@ def test_slice_many_sorts_and_dedups_like_the_cli():
         m.slice_many(np.array([0.5, np.nan]))
     with pytest.raises(ValueError):
         m.slice_many([0.5], threads=0)
+    # More workers than 4 a core (and 256) would spend their time looking
+    # for work: 40 000 did not finish the unit cube in 100 s. Refused.
+    with pytest.raises(ValueError, match="at most"):
+        m.slice_many([0.5], threads=1_000_000)
 
 
 def test_numpy_levels_and_threads_give_the_same_result():

@@ -72,7 +72,7 @@ pub struct CriticalArgs {
         conflicts_with = "fit_critical"
     )]
     pub first: Option<String>,
-    /// Worker threads for validation (default: all cores).
+    /// Worker threads for validation (default: all cores; at most 4 a core or 256, whichever is more).
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
 }
@@ -212,7 +212,7 @@ pub struct SliceArgs {
     /// with every flat on a layer boundary, and slice each at its middle.
     #[arg(long, requires = "layer_height", conflicts_with_all = ["first", "last", "naive"])]
     pub fit_critical: bool,
-    /// Worker threads (default: all cores); the output is identical for every N.
+    /// Worker threads (default: all cores; at most 4 a core or 256, whichever is more); the output is identical for every N.
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
     /// Snap coordinates to the grid Q (decimal or p/q) before slicing.

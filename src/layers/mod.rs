@@ -7,4 +7,6 @@ pub mod plan;
 pub mod sweep;
 
 pub use plan::{height_range, plan_levels, LayerPlan, PlanError};
-pub use sweep::{slice_levels, slice_levels_then, slice_plan_then, SweepError, SweepPlan};
+pub use sweep::{
+    max_threads, slice_levels, slice_levels_then, slice_plan_then, SweepError, SweepPlan,
+};
