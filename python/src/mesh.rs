@@ -209,14 +209,10 @@ fn faces(obj: &Bound<'_, PyAny>, vertices: usize) -> PyResult<Vec<[u32; 3]>> {
 /// How many worker threads: all cores by default; from 1 to
 /// [`wmslice::layers::max_threads`].
 pub(crate) fn thread_count(threads: Option<usize>) -> PyResult<usize> {
-    let most = wmslice::layers::max_threads();
     match threads {
         Some(0) => Err(PyValueError::new_err("threads must be at least 1")),
-        Some(t) if t > most => Err(PyValueError::new_err(format!(
-            "threads={t}: at most {most} here (4 a core, and never fewer than 256); \
-             more workers than that spend their time looking for work"
-        ))),
-        Some(t) => Ok(t),
+        Some(t) => wmslice::layers::thread_count(t)
+            .map_err(|e| PyValueError::new_err(format!("threads={e}"))),
         None => Ok(std::thread::available_parallelism().map_or(1, |n| n.get())),
     }
 }

@@ -179,12 +179,8 @@ pub fn write_stdout(text: &str) -> Result<(), Failure> {
 /// each (995 of them for a 20 000-level plan of a tetrahedron, 6% of the
 /// run); this thread's heap grows in larger steps.
 pub fn worker_pool(threads: Option<usize>) -> Result<(usize, rayon::ThreadPool), Failure> {
-    let most = wmslice::layers::max_threads();
-    if let Some(n) = threads.filter(|&n| n > most) {
-        return Err(usage(format!(
-            "--threads {n}: at most {most} here (4 a core, and never fewer than 256); \
-             more workers than that spend their time looking for work"
-        )));
+    if let Some(n) = threads {
+        wmslice::layers::thread_count(n).map_err(|e| usage(format!("--threads {e}")))?;
     }
     let threads =
         threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));

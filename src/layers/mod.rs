@@ -8,5 +8,6 @@ pub mod sweep;
 
 pub use plan::{height_range, plan_levels, LayerPlan, PlanError};
 pub use sweep::{
-    max_threads, slice_levels, slice_levels_then, slice_plan_then, SweepError, SweepPlan,
+    max_threads, slice_levels, slice_levels_then, slice_plan_then, thread_count, SweepError,
+    SweepPlan, TooManyThreads,
 };

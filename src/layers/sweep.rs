@@ -336,10 +336,33 @@ impl<'a> SweepPlan<'a> {
 /// other's queues for work (rayon's stealing visits every worker): on 2
 /// cores, 1 000 workers took 4.3 s for a job one does in 0.01 s, and
 /// 40 000 did not finish in 100 s. The command line and the Python
-/// package refuse more; the functions here take at most this many.
+/// package refuse more ([`thread_count`]); the functions here take at
+/// most this many.
 pub fn max_threads() -> usize {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     cores.saturating_mul(4).max(256)
+}
+
+/// A worker count above [`max_threads`].
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "{asked}: at most {most} here (4 a core, and never fewer than 256); \
+     more workers than that spend their time looking for work"
+)]
+pub struct TooManyThreads {
+    /// The count asked for.
+    pub asked: usize,
+    /// [`max_threads`] on this machine.
+    pub most: usize,
+}
+
+/// `asked` when it is at most [`max_threads`].
+pub fn thread_count(asked: usize) -> Result<usize, TooManyThreads> {
+    let most = max_threads();
+    if asked > most {
+        return Err(TooManyThreads { asked, most });
+    }
+    Ok(asked)
 }
 
 /// [`slice_levels`] with a step run on the workers: `finish` turns each
