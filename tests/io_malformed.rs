@@ -299,6 +299,39 @@ fn ascii_stl_missing_endfacet_or_short_normal_is_still_refused() {
 }
 
 #[test]
+fn ascii_stl_ending_after_a_whole_facet_without_endsolid_is_refused_saying_so() {
+    // OpenMesh's test file `cube1.stl` ends this way. A file cut off
+    // between two facets looks the same, and if whole bodies were lost
+    // nothing would be open to show it: refused, with what to do if the
+    // file is whole (before: only "expected `facet` or `endsolid`").
+    let facet = "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n";
+    let text = format!("solid t\n{facet}{facet}");
+    let err = load_bytes(text.as_bytes(), None).unwrap_err();
+    let said = err.to_string();
+    assert!(
+        matches!(
+            err,
+            LoadError::Parse {
+                format: MeshFormat::StlAscii,
+                line: Some(15),
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+    assert!(
+        said.contains("ends after 2 whole facets without `endsolid`")
+            && said.contains("add `endsolid`"),
+        "{said}"
+    );
+    // With it, read.
+    assert!(load_bytes(format!("{text}endsolid t\n").as_bytes(), None).is_ok());
+    // A solid with no facet at all says only what it expected.
+    let err = load_bytes(b"solid t\n", None).unwrap_err().to_string();
+    assert!(!err.contains("whole facets"), "{err}");
+}
+
+#[test]
 fn ascii_stl_facet_with_two_vertices_cannot_be_triangulated() {
     let text = b"solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\nendfacet\nendsolid\n";
     let err = load_bytes(text, None).unwrap_err();

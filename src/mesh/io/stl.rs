@@ -299,9 +299,21 @@ fn read_ascii(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
         loop {
             let eof_line = tokens.line;
             let (t, line) = tokens.next().ok_or_else(|| {
+                // After a whole facet, the file may be cut off between two
+                // facets (whole bodies lost, nothing open to show it) or
+                // written without its last line: the file cannot tell, so
+                // it is refused, saying how to read it if it is whole.
+                let why = if facets > 0 {
+                    format!(
+                        " (the file ends after {facets} whole facets without `endsolid`: \
+                         cut off, or written without it; if it is whole, add `endsolid`)"
+                    )
+                } else {
+                    String::new()
+                };
                 parse_err(
                     eof_line,
-                    "unexpected end of file: expected `facet` or `endsolid`".to_owned(),
+                    format!("unexpected end of file: expected `facet` or `endsolid`{why}"),
                 )
             })?;
             if t.eq_ignore_ascii_case(b"endsolid") {
