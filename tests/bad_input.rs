@@ -592,66 +592,31 @@ fn an_output_naming_the_mesh_a_levels_file_or_another_output_is_refused_before_a
     std::os::unix::fs::symlink(&mesh, &link).unwrap();
     let result = dir.path().join("r.json");
     let spelled = dir.path().join(".").join("part.off");
-    for (args, said) in [
+    // Command lines as words (the temporary paths hold no spaces).
+    let (m, l, lv, r) = (s(&mesh), s(&link), s(&levels), s(&result));
+    for (line, said) in [
         (
-            vec![
-                "slice",
-                s(&mesh),
-                "--at",
-                "1/2",
-                "--format",
-                "json",
-                "-o",
-                s(&spelled),
-            ],
+            format!("slice {m} --at 1/2 --format json -o {}", s(&spelled)),
             "names the same file as the mesh",
         ),
         (
-            vec![
-                "slice",
-                s(&link),
-                "--at",
-                "1/2",
-                "--format",
-                "svg",
-                "-o",
-                s(&mesh),
-            ],
+            format!("slice {l} --at 1/2 --format svg -o {m}"),
             "names the same file as the mesh",
         ),
         (
-            vec![
-                "slice",
-                s(&mesh),
-                "--levels-file",
-                s(&levels),
-                "--format",
-                "json",
-                "-o",
-                s(&levels),
-            ],
+            format!("slice {m} --levels-file {lv} --format json -o {lv}"),
             "names the same file as --levels-file",
         ),
         (
-            vec![
-                "slice",
-                s(&mesh),
-                "--at",
-                "1/2",
-                "--format",
-                "json",
-                "-o",
-                s(&result),
-                "--certificate",
-                s(&result),
-            ],
+            format!("slice {m} --at 1/2 --format json -o {r} --certificate {r}"),
             "one output would replace the other",
         ),
         (
-            vec!["critical", s(&mesh), "--format", "json", "-o", s(&mesh)],
+            format!("critical {m} --format json -o {m}"),
             "names the same file as the mesh",
         ),
     ] {
+        let args: Vec<&str> = line.split_whitespace().collect();
         let (code, _, err) = wmslice(&args);
         assert_eq!(code, 2, "{args:?}: {err}");
         assert!(err.contains(said), "{args:?}: {err}");
@@ -665,17 +630,8 @@ fn an_output_naming_the_mesh_a_levels_file_or_another_output_is_refused_before_a
     assert_eq!(std::fs::read_to_string(&levels).unwrap(), "1/2\n");
     assert!(!result.exists());
     // Distinct paths still work.
-    let (code, _, err) = wmslice(&[
-        "slice",
-        s(&mesh),
-        "--levels-file",
-        s(&levels),
-        "--format",
-        "json",
-        "-o",
-        s(&result),
-        "--quiet",
-    ]);
+    let line = format!("slice {m} --levels-file {lv} --format json -o {r} --quiet");
+    let (code, _, err) = wmslice(&line.split_whitespace().collect::<Vec<_>>());
     assert_eq!(code, 0, "{err}");
 }
 
