@@ -26,18 +26,16 @@ pub struct Named<'a> {
 /// not read from disk.
 pub fn refuse_overwriting(inputs: &[Named<'_>], outputs: &[Named<'_>]) -> Result<(), Failure> {
     for (k, out) in outputs.iter().enumerate() {
-        if out.path == Path::new("-") {
-            continue;
-        }
+        let same = |o: &&Named<'_>| same_regular_file(o.path, out.path);
         // An input that is not a file on disk is not read from it.
-        let read = inputs.iter().filter(|i| i.path.is_file());
-        let mut earlier = read.chain(&outputs[..k]);
-        if let Some(other) = earlier.find(|o| same_regular_file(o.path, out.path)) {
-            let what = if k > 0 && outputs[..k].iter().any(|o| std::ptr::eq(o, other)) {
-                "one output would replace the other"
-            } else {
-                "writing it would replace what is being read"
-            };
+        let read = inputs.iter().filter(|i| i.path.is_file()).find(same);
+        let clash = read
+            .map(|i| (i, "writing it would replace what is being read"))
+            .or_else(|| {
+                let earlier = outputs[..k].iter().find(same);
+                earlier.map(|o| (o, "one output would replace the other"))
+            });
+        if let Some((other, what)) = clash {
             return Err(usage(format!(
                 "{} {} names the same file as {} ({}): {what}; choose another path",
                 out.role,
