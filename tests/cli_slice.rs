@@ -204,6 +204,51 @@ fn a_mesh_on_standard_input_slices_as_its_file() {
     assert!(err.contains("the mesh file is empty (0 bytes)"), "{err}");
 }
 
+/// `--levels-file -` reads the levels from standard input (`seq ... |
+/// wmslice slice part.stl --levels-file -`): the same levels as the file,
+/// comments and all; not beside a mesh read from there too (exit 2), and
+/// bytes that are not text are named (exit 4). Before, `-` was a file
+/// name ("cannot read -").
+#[test]
+fn levels_on_standard_input_are_the_levels_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "0.25\n# the middle\n1/2\n\n-1e-3\n";
+    let file = dir.path().join("levels.txt");
+    std::fs::write(&file, text).unwrap();
+    let from_file = Command::new(env!("CARGO_BIN_EXE_wmslice"))
+        .args([
+            "slice",
+            "unit_cube",
+            "--levels-file",
+            file.to_str().unwrap(),
+        ])
+        .args(["--format", "json", "--exact"])
+        .output()
+        .unwrap();
+    assert_eq!(from_file.status.code(), Some(0));
+    let args = [
+        "slice",
+        "unit_cube",
+        "--levels-file",
+        "-",
+        "--format",
+        "json",
+        "--exact",
+    ];
+    let (code, from_stdin, err) = piped(text.as_bytes(), &args);
+    assert_eq!(code, 0, "{err}");
+    assert!(!from_stdin.is_empty() && from_stdin == from_file.stdout);
+    let (code, _, err) = piped(b"1/2\n", &["slice", "-", "--levels-file", "-"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("cannot both be standard input"), "{err}");
+    let (code, _, err) = piped(b"\xff\n", &["slice", "unit_cube", "--levels-file", "-"]);
+    assert_eq!(code, 4, "{err}");
+    assert!(
+        err.contains("cannot read the levels from standard input"),
+        "{err}"
+    );
+}
+
 /// `-o -` is standard output, as no `-o` is, for `slice` and `critical`:
 /// the same bytes, and no file named `-` (it used to make one).
 #[test]

@@ -186,7 +186,8 @@ pub struct SliceArgs {
     /// A level, as typed (0.6, 10.35, 3/5, -1e-3): exact. Repeatable.
     #[arg(long = "at", value_name = "Z", allow_hyphen_values = true)]
     pub at: Vec<String>,
-    /// A file with one level per line (same syntax; # comments).
+    /// A file with one level per line (same syntax; # comments; `-`:
+    /// standard input).
     #[arg(long, value_name = "FILE")]
     pub levels_file: Option<PathBuf>,
     /// Uniform layers of height H (exact: 0.2 is 1/5).

@@ -2,12 +2,12 @@
 //! summary, JSON, or a rendered format.
 
 use super::args::{Format, SliceArgs};
-use super::input::{load_input, Input};
+use super::input::{load_input, read_stdin, Input};
 use super::paths::{refuse_overwriting, Named};
 use super::progress::{progress, step};
 use super::{emit, slice_error, usage, worker_pool, ExitCode, Failure, Tag};
 use anyhow::anyhow;
-use std::io::Write;
+use std::io::{ErrorKind, Write};
 use std::path::Path;
 use std::time::{Duration, Instant};
 use wmslice::critical::{
@@ -32,9 +32,26 @@ pub fn parse_levels(a: &SliceArgs) -> Result<Vec<Rat>, Failure> {
         levels.push(parse_rational(z).map_err(|e| usage(format!("--at {z}: {e}")))?);
     }
     if let Some(f) = &a.levels_file {
-        let text = std::fs::read_to_string(f)
-            .map_err(|e| anyhow!("cannot read {}: {e}", f.display()))
-            .tag(ExitCode::Input)?;
+        // `-` is standard input (`seq 0 0.2 10 | wmslice slice part.stl
+        // --levels-file -`), unless the mesh comes from there.
+        let stdin = f.as_os_str() == "-";
+        if stdin && a.mesh == "-" {
+            return Err(usage(
+                "the mesh and --levels-file cannot both be standard input".into(),
+            ));
+        }
+        let text = if stdin {
+            read_stdin().and_then(|b| {
+                String::from_utf8(b).map_err(|e| std::io::Error::new(ErrorKind::InvalidData, e))
+            })
+        } else {
+            std::fs::read_to_string(f)
+        }
+        .map_err(|e| match stdin {
+            true => anyhow!("cannot read the levels from standard input: {e}"),
+            false => anyhow!("cannot read {}: {e}", f.display()),
+        })
+        .tag(ExitCode::Input)?;
         let given = levels.len();
         for (i, line) in text.lines().enumerate() {
             let t = line.split('#').next().unwrap_or("").trim();
