@@ -524,11 +524,18 @@ fn usage_and_output_errors_have_their_codes_and_leave_no_file() {
             &["critical", "unit_cube", "--threads", "1000000"][..],
             "--threads 1000000: at most",
         ),
+        // An output name with no format the writer knows: an argument
+        // (exit 5 before, as if the disk had failed), nothing written.
+        (
+            &["gen", "unit_cube", "-o", "never-written.xyz"][..],
+            "cannot tell the output format of never-written.xyz",
+        ),
     ] {
         let (code, _, err) = wmslice(args);
         assert_eq!(code, 2, "{args:?}: {err}");
         assert!(err.contains(said), "{args:?}: {err}");
     }
+    assert!(!std::path::Path::new("never-written.xyz").exists());
     // A levels file with comments and blank lines only: 2, named, even
     // beside --at (a wrong path or a failed export, not a plan).
     let levels = dir.path().join("levels.txt");

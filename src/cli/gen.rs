@@ -7,6 +7,7 @@ use super::{emit, usage, ExitCode, Failure, Tag};
 use crate::say;
 use wmslice::datasets;
 use wmslice::datasets::families::{self, answers::AnswerError};
+use wmslice::mesh::io::MeshFormat;
 
 /// Runs `gen`.
 pub fn run(a: GenArgs) -> Result<(), Failure> {
@@ -23,6 +24,20 @@ pub fn run(a: GenArgs) -> Result<(), Failure> {
         return Ok(());
     }
     let out = a.output.ok_or_else(|| usage("missing -o FILE".into()))?;
+    // The format by extension, before any work (a random family's
+    // answers take seconds): a name the writer does not know is a bad
+    // argument, not a failed write.
+    let format = out
+        .extension()
+        .and_then(|e| e.to_str())
+        .and_then(MeshFormat::from_extension)
+        .ok_or_else(|| {
+            usage(format!(
+                "cannot tell the output format of {} from its extension \
+                 (stl, obj, off, ply or 3mf)",
+                out.display()
+            ))
+        })?;
     if let Some(path) = a.answers.as_deref() {
         let outputs = [
             Named {
@@ -62,7 +77,7 @@ pub fn run(a: GenArgs) -> Result<(), Failure> {
             }
             None => None,
         };
-        mesh.save(&out).tag(ExitCode::Output)?;
+        mesh.save_as(&out, format).tag(ExitCode::Output)?;
         eprintln!("wrote {} seed {seed} to {}", f.name, out.display());
         if let Some((path, text)) = answers {
             emit(Some(path), &text)?;
@@ -73,7 +88,7 @@ pub fn run(a: GenArgs) -> Result<(), Failure> {
     let name = a.name.unwrap_or_default();
     let d = datasets::by_name(&name)
         .ok_or_else(|| usage(format!("unknown dataset {name} (see `wmslice gen --list`)")))?;
-    d.build().save(&out).tag(ExitCode::Output)?;
+    d.build().save_as(&out, format).tag(ExitCode::Output)?;
     eprintln!("wrote {} to {}", d.name, out.display());
     Ok(())
 }
