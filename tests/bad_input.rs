@@ -536,6 +536,12 @@ fn usage_and_output_errors_have_their_codes_and_leave_no_file() {
         assert!(err.contains(said), "{args:?}: {err}");
     }
     assert!(!std::path::Path::new("never-written.xyz").exists());
+    // No levels asked for: said before the mesh is read (a large file
+    // was read, welded and validated first).
+    let (code, _, err) = wmslice(&["slice", "unit_cube"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("no levels: give --at Z"), "{err}");
+    assert!(!err.contains("note:"), "refused before reading: {err}");
     // A levels file with comments and blank lines only: 2, named, even
     // beside --at (a wrong path or a failed export, not a plan).
     let levels = dir.path().join("levels.txt");

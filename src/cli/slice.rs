@@ -178,6 +178,10 @@ pub fn run(a: SliceArgs) -> Result<(), Failure> {
     refuse_overwriting(&inputs, &outputs)?;
     let explicit = parse_levels(&a)?;
     let uniform = parse_uniform(&a)?;
+    // Before reading what may be a large mesh.
+    if explicit.is_empty() && uniform.is_none() {
+        return Err(usage(wmslice::layers::PlanError::Empty.to_string()));
+    }
     // Welding and validation run on the workers too.
     let (threads, pool) = worker_pool(a.threads)?;
     let mut steps = Steps::start();
