@@ -131,7 +131,6 @@ pub(super) fn is_digits(t: &[u8]) -> bool {
 pub(super) struct FaceSink {
     format: MeshFormat,
     pub(super) faces: Vec<[VertexId; 3]>,
-    fan_triangles: usize,
     /// Each polygon's first triangle in `faces` and its number of
     /// triangles (both within [`MAX_ELEMENTS`], so `u32`: 8 bytes a
     /// polygon).
@@ -145,7 +144,6 @@ impl FaceSink {
         FaceSink {
             format,
             faces: Vec::with_capacity(capacity),
-            fan_triangles: 0,
             polygon_at: Vec::new(),
             read: 0,
         }
@@ -175,7 +173,6 @@ impl FaceSink {
             });
         }
         if new > 1 {
-            self.fan_triangles += new;
             // Within the element limit checked above.
             self.polygon_at.push((self.faces.len() as u32, new as u32));
         }
@@ -215,7 +212,7 @@ impl FaceSink {
         }
         let note = (!self.polygon_at.is_empty()).then_some(LoadNote::Triangulated {
             polygons: self.polygon_at.len(),
-            triangles: self.fan_triangles,
+            triangles: self.polygon_at.iter().map(|&(_, n)| n as usize).sum(),
             ear_clipped,
         });
         (self.faces, note)
