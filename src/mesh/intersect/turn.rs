@@ -17,9 +17,21 @@
 //! faces that meet have turned volumes that meet, for any rows at all
 //! (a linear map takes a common point to a common point).
 
-use super::bvh::{cross, dot};
 use crate::ids::VertexId;
 use rustc_hash::FxHashMap as HashMap;
+
+/// The dot product (rounded; for heuristics).
+pub(super) fn dot(u: [f64; 3], v: [f64; 3]) -> f64 {
+    u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+}
+
+/// The cross product (rounded; for heuristics).
+pub(super) fn cross(u: [f64; 3], v: [f64; 3]) -> [f64; 3] {
+    std::array::from_fn(|c| {
+        let (k, l) = ((c + 1) % 3, (c + 2) % 3);
+        u[k] * v[l] - u[l] * v[k]
+    })
+}
 
 /// Triangles sampled (by stride, when there are more).
 const SAMPLE: usize = 1 << 14;
