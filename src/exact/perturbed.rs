@@ -163,7 +163,7 @@ fn cross(ax: &Rat, ay: &Rat, bx: &Rat, by: &Rat) -> Rat {
 /// of a point is `s E_xy / delta` whichever end the motion names first, so
 /// products of velocities are those of the rows `(E_x, E_y, delta)` over
 /// the product of the `delta`s: signs of determinants of `f64` points,
-/// which [`orient3d`] and [`orient2d_axes`] decide exactly (no rational).
+/// which [`orient3d`] and [`orient2d_axes`](crate::exact::predicates::orient2d_axes) decide exactly (no rational).
 fn at_one_vertex<const N: usize>(ms: [&Motion; N]) -> Option<([f64; 3], [[f64; 3]; N])> {
     let first = ms[0];
     [first.a, first.b].into_iter().find_map(|v| {

@@ -326,7 +326,7 @@ fn ratio_to_f64_normal(num: u128, d: u128, e: i32) -> Option<f64> {
 /// double. When the result is normal and finite (its leading bit at
 /// `2^-1022` to `2^1023`; else `None`) that conversion rounded at the
 /// result's own 53 bits, and every product by a power of two is exact:
-/// one by `2^exp` when it is a normal double, else two ([`times_pow2`]).
+/// one by `2^exp` when it is a normal double, else two ([`times_pow2`](crate::exact::scale::times_pow2)).
 #[inline]
 pub(crate) fn scaled_quotient(q: u64, exp: i64) -> Option<f64> {
     let v = q as i64 as f64;
