@@ -11,7 +11,7 @@
 //!   edge's line) as self-intersections;
 //! - one vertex: the non-neighbouring faces of its fan (`fan.rs`), skipped
 //!   for a fan that projects as a star;
-//! - none: the pairs whose closed bounding boxes meet (`bvh.rs`; along
+//! - none: the pairs whose closed bounding boxes meet (`bvh/`; along
 //!   the mesh's own axes when one plane dominates it off the axes,
 //!   `turn.rs`), each tested exactly (`narrow.rs`); touching counts, so
 //!   two bodies that touch at a point without sharing a vertex id

@@ -2,7 +2,7 @@
 //! topology, and the knowledge that its faces sharing one vertex id meet
 //! properly (the fan pass found no pair). Output: its *certified patches*,
 //! sets of faces no two of which, sharing no vertex id, meet: the broad
-//! phase (`bvh.rs`) skips those pairs.
+//! phase (`bvh/`) skips those pairs.
 //!
 //! Flat regions of CAD parts are fans and strips of long thin faces in one
 //! plane (the radial faces of an annulus). Their boxes overlap many

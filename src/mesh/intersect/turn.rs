@@ -13,7 +13,7 @@
 //!
 //! Everything here is a heuristic: it chooses the axes, never an answer.
 //! Which volumes meet is decided on the turned coordinates widened by a
-//! proven bound on their rounding (see `VolumeFrame` in `bvh.rs`); two
+//! proven bound on their rounding (see `VolumeFrame` in `bvh/frame.rs`); two
 //! faces that meet have turned volumes that meet, for any rows at all
 //! (a linear map takes a common point to a common point).
 
