@@ -454,6 +454,42 @@ mod tests {
     }
 
     proptest::proptest! {
+        /// A decimal as a user types it (signs, no integer or no fraction
+        /// digits, leading zeros, long mantissas, exponents of either case
+        /// and sign, surrounding blanks) denotes the value the standard
+        /// library's correctly rounded parser reads: the nearest double of
+        /// the exact value is its result, and what it reads as an infinity
+        /// or as zero (below half the least subnormal) is still the exact
+        /// rational (refused only outside `e-4000..=e4000`). An
+        /// independent check of the parser and of `rat_to_f64` together.
+        #[test]
+        fn decimals_denote_what_the_standard_parser_rounds(
+            text in "[ \t]{0,1}[+-]?([0-9]{0,25}\\.[0-9]{1,25}|[0-9]{1,25}\\.?)([eE][+-]?0{0,2}[0-9]{1,4})?[ \t]{0,1}"
+        ) {
+            let reference: f64 = text.trim().parse().unwrap();
+            match parse_rational(&text) {
+                Ok(r) => {
+                    let got = rat_to_f64(&r);
+                    if reference.is_finite() {
+                        proptest::prop_assert_eq!(got, reference, "{}", text);
+                    } else {
+                        // Beyond the doubles: the exact value is kept.
+                        proptest::prop_assert!(got.is_infinite() && got.signum() == reference.signum());
+                    }
+                    // Zero exactly when no digit of the mantissa is
+                    // (`-0.00e7`), not when it rounds to zero (`1e-400`).
+                    let mantissa = text.trim().split(['e', 'E']).next().unwrap();
+                    let nonzero = mantissa.bytes().any(|b| (b'1'..=b'9').contains(&b));
+                    proptest::prop_assert_eq!(r.is_zero(), !nonzero, "{}", text);
+                }
+                Err(RationalParseError::ExponentRange(_)) => {
+                    let e = text.trim().rsplit(['e', 'E']).next().unwrap();
+                    proptest::prop_assert!(e.parse::<i32>().unwrap().abs() > 4000, "{}", text);
+                }
+                Err(e) => proptest::prop_assert!(false, "{}: {}", text, e),
+            }
+        }
+
         /// The one-division fast path rounds like num-rational's general
         /// conversion (numerators and denominators around 2^53).
         #[test]
