@@ -302,6 +302,10 @@ def test_a_grid_coarser_than_the_part_is_named_with_its_size():
     assert e.value.defects[0]["faces"] == 4 and e.value.defects[0]["grid"] == "1/1000"
     assert e.value.defects[0]["span"] == [2e-4, 2e-4, 2e-4]
     assert wmslice.Mesh(v, f, snap="1/1000000", drop_collapsed=True).dropped == []
+    # Without dropping, the same one reason (not four faces repeating a vertex).
+    with pytest.raises(wmslice.InvalidMesh, match="much finer than the mesh") as e:
+        wmslice.Mesh(v, f, snap="1/1000")
+    assert [d["kind"] for d in e.value.defects] == ["snap_collapsed_everything"]
 
 
 def face_by_face_tetra():

@@ -228,15 +228,16 @@ fn on_grid(
         max_move: s.max_move,
         merged: s.merged,
     };
-    let prepared = repair(s.mesh, Some(s.unit), Some(stats), collapsed);
-    if faces > 0 && prepared.mesh.num_faces() == 0 {
+    // Nothing is left to slice, dropped or not: say why once (the grid),
+    // not once per face.
+    if faces > 0 && s.mesh.faces.iter().all(|&f| is_collapsed(f)) {
         return Err(SnapError::CollapsedEverything {
             q: rat_to_string(q),
             faces,
             span,
         });
     }
-    Ok(prepared)
+    Ok(repair(s.mesh, Some(s.unit), Some(stats), collapsed))
 }
 
 /// Whether a face uses one vertex twice.

@@ -39,10 +39,10 @@ pub enum SnapError {
     /// More vertices than ids.
     #[error("too many vertices to snap: more than {MAX_ELEMENTS}")]
     TooManyVertices,
-    /// Every face collapsed on the grid and dropping collapsed faces removed
-    /// them all: a grid about as coarse as the part (a mesh in metres on a
-    /// grid meant for millimetres).
-    #[error("snapping to the grid {q} collapsed every one of the {faces} faces (dropping the collapsed faces removed them all): the mesh spans {:.3e} x {:.3e} x {:.3e}; choose a grid much finer than the mesh", .span[0], .span[1], .span[2])]
+    /// Every face collapsed on the grid (each repeats a vertex), whether or
+    /// not collapsed faces are dropped: a grid about as coarse as the part
+    /// (a mesh in metres on a grid meant for millimetres).
+    #[error("snapping to the grid {q} collapsed every one of the {faces} faces: the mesh spans {:.3e} x {:.3e} x {:.3e}; choose a grid much finer than the mesh", .span[0], .span[1], .span[2])]
     CollapsedEverything {
         /// The grid, as `p/q`.
         q: String,
