@@ -5,6 +5,7 @@
 //! Parsing never goes through `f64`: `0.2` is exactly `1/5`.
 
 use num_bigint::BigInt;
+use num_integer::Integer;
 use num_rational::BigRational;
 use num_traits::{One, Signed, ToPrimitive, Zero};
 use std::cmp::Ordering;
@@ -88,22 +89,51 @@ fn parse_decimal_checked(t: &str) -> Result<Rat, RationalParseError> {
         return Err(syntax(t));
     }
     let all_digits = format!("{int_part}{frac_part}");
-    let mut num: BigInt = if all_digits.is_empty() {
+    let scale = exponent - frac_part.len() as i32;
+    small_decimal(&all_digits, negative, scale)
+        .or_else(|| big_decimal(&all_digits, negative, scale))
+        .ok_or_else(|| syntax(t))
+}
+
+/// `digits 10^scale` (negated when `negative`; no digits is zero) in big
+/// integers, for any length and scale.
+fn big_decimal(digits: &str, negative: bool, scale: i32) -> Option<Rat> {
+    let mut num: BigInt = if digits.is_empty() {
         BigInt::zero()
     } else {
-        all_digits.parse().map_err(|_| syntax(t))?
+        digits.parse().ok()?
     };
     if negative {
         num = -num;
     }
-    let scale = exponent - frac_part.len() as i32;
     let ten = BigInt::from(10u32);
-    let r = if scale >= 0 {
+    Some(if scale >= 0 {
         Rat::from_integer(num * num_traits::pow(ten, scale as usize))
     } else {
         Rat::new(num, num_traits::pow(ten, (-scale) as usize))
+    })
+}
+
+/// `digits 10^scale` (negated when `negative`) in lowest terms with one
+/// `u128` gcd, when the digits and the power of ten fit (a levels file's
+/// decimals, `0.0074999999999991115`); `None` otherwise (big integers).
+fn small_decimal(digits: &str, negative: bool, scale: i32) -> Option<Rat> {
+    if digits.len() > 38 || digits.is_empty() {
+        return None;
+    }
+    let n: u128 = digits.parse().ok()?;
+    let pow = 10u128.checked_pow(scale.unsigned_abs())?;
+    let (n, d) = if scale >= 0 {
+        (n.checked_mul(pow)?, 1)
+    } else {
+        let g = n.gcd(&pow).max(1);
+        (n / g, pow / g)
     };
-    Ok(r)
+    let n = i128::try_from(n).ok()?;
+    Some(Rat::new_raw(
+        BigInt::from(if negative { -n } else { n }),
+        BigInt::from(d),
+    ))
 }
 
 /// An exact rational for people: its canonical text and, in brackets,
@@ -454,6 +484,19 @@ mod tests {
     }
 
     proptest::proptest! {
+        /// The `u128` path gives the big-integer path's rational, in
+        /// lowest terms (a rational not in lowest terms would compare
+        /// unequal to an equal one), wherever it answers.
+        #[test]
+        fn small_decimals_equal_big_ones(digits in "[0-9]{1,40}", negative in proptest::bool::ANY, scale in -45i32..45) {
+            let big = big_decimal(&digits, negative, scale).unwrap();
+            if let Some(small) = small_decimal(&digits, negative, scale) {
+                proptest::prop_assert_eq!((small.numer(), small.denom()), (big.numer(), big.denom()));
+            } else {
+                proptest::prop_assert!(digits.len() > 38 || scale.abs() > 38 || big.numer().bits() > 126);
+            }
+        }
+
         /// A decimal as a user types it (signs, no integer or no fraction
         /// digits, leading zeros, long mantissas, exponents of either case
         /// and sign, surrounding blanks) denotes the value the standard
