@@ -11,6 +11,7 @@ use wmslice::mesh::io::{
     InvalidIndexReason, LoadError, LoadNote, MeshFormat,
 };
 use wmslice::mesh::prepare::{prepare, prepare_exact, PrepareError};
+use wmslice::mesh::snap::{snap, snap_exact, SnapError};
 use wmslice::mesh::Mesh;
 use wmslice::VertexId;
 
@@ -392,6 +393,41 @@ fn text_stl_not_starting_with_solid_is_named_as_ascii() {
             message,
         } => assert!(message.contains("expected `solid`, found `#`"), "{message}"),
         e => panic!("{e:?}"),
+    }
+}
+
+/// What follows an `endsolid` must be another `solid`: a facet there is
+/// outside any solid (gmsh's `multi_solid.stl` ends its first solid after
+/// two facets and goes on with more), and text that is not STL (gmsh's
+/// `Coupe.stl` appends a `.geo` script) is refused too; both messages say
+/// where the last solid ended.
+#[test]
+fn after_endsolid_only_a_solid_may_follow() {
+    let facet = "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n";
+    for (tail, line, says) in [
+        (
+            facet,
+            17,
+            "expected `solid`, found `facet` after `endsolid` on line 16: a facet outside any solid",
+        ),
+        (
+            "Surface Loop(2) = {1};\n",
+            17,
+            "expected `solid`, found `Surface` after `endsolid` on line 16: what follows the last solid is not STL",
+        ),
+    ] {
+        let text = format!("solid a\n{facet}{facet}endsolid a\n{tail}");
+        match load_bytes(text.as_bytes(), Some(MeshFormat::StlAscii)).unwrap_err() {
+            LoadError::Parse {
+                format: MeshFormat::StlAscii,
+                line: Some(l),
+                message,
+            } => {
+                assert_eq!(l, line, "{message}");
+                assert!(message.contains(says), "{message}");
+            }
+            e => panic!("{e:?}"),
+        }
     }
 }
 
@@ -1446,13 +1482,25 @@ fn three_mf_transform_that_rounds_is_snapped_from_the_exact_image() {
     let one = Rat::from_integer(1.into());
     // (0.5, 0, 0) -> 0 (a tie, to even); (0.5 + 2^-60, 0, 0) -> 1;
     // (0.5, 2^-60, 0) and (0.5, 0, 2^-60) -> the origin.
-    let p = prepare_exact(mesh.clone(), &exact, Some(&one)).unwrap();
-    assert_eq!(p.mesh.positions, vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]);
-    assert_eq!(p.snap.as_ref().unwrap().merged, 2);
-    assert_eq!(p.snap.unwrap().max_move, r(0.5));
+    let s = snap_exact(&mesh, &exact, &one).unwrap();
+    assert_eq!(s.mesh.positions, vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]);
+    assert_eq!((s.merged, s.max_move), (2, r(0.5)));
     // The nearest doubles alone would put every vertex on the origin.
-    let doubles = prepare(mesh, Some(&one)).unwrap();
-    assert_eq!(doubles.mesh.positions, vec![[0.0, 0.0, 0.0]]);
+    assert_eq!(snap(&mesh, &one).unwrap().mesh.positions, vec![[0.0; 3]]);
+    // Either way three corners of the tetrahedron meet, and every face
+    // collapses: preparing refuses it once, by the grid.
+    for p in [
+        prepare_exact(mesh.clone(), &exact, Some(&one)),
+        prepare(mesh, Some(&one)).map_err(PrepareError::Snap),
+    ] {
+        assert!(matches!(
+            p,
+            Err(PrepareError::Snap(SnapError::CollapsedEverything {
+                faces: 4,
+                ..
+            }))
+        ));
+    }
 }
 
 /// The production extension as Bambu Studio writes it: the root part's

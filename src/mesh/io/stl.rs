@@ -274,6 +274,7 @@ fn read_ascii(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
     let mut missing_normals = 0usize;
     let mut stray_words = 0usize;
     let mut endfacet_line = None;
+    let mut endsolid_line = None;
 
     'solids: loop {
         let eof_line = tokens.line;
@@ -290,10 +291,20 @@ fn read_ascii(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
                 tokens.skip_line();
             }
             Some((t, line)) => {
+                // After a solid: say where it ended, and what the word is
+                // (a facet outside any solid, or text that is not STL, as
+                // a gmsh script appended to the file).
+                let after = match endsolid_line {
+                    Some(e) if t.eq_ignore_ascii_case(b"facet") => format!(
+                        " after `endsolid` on line {e}: a facet outside any solid (an `endsolid` too early?)"
+                    ),
+                    Some(e) => format!(" after `endsolid` on line {e}: what follows the last solid is not STL"),
+                    None => String::new(),
+                };
                 return Err(parse_err(
                     line,
-                    format!("expected `solid`, found `{}`", show(t)),
-                ))
+                    format!("expected `solid`, found `{}`{after}", show(t)),
+                ));
             }
         }
         loop {
@@ -317,6 +328,7 @@ fn read_ascii(bytes: &[u8]) -> Result<(Mesh, LoadReport), LoadError> {
                 )
             })?;
             if t.eq_ignore_ascii_case(b"endsolid") {
+                endsolid_line = Some(line);
                 tokens.skip_line();
                 continue 'solids;
             }
