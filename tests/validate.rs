@@ -373,6 +373,54 @@ fn check_after_snapping_reports_measures_in_the_files_units() {
     assert_eq!(json["stats"]["bounding_box"][0][2].as_f64(), Some(0.0));
 }
 
+/// `check --json` reports a mesh that snapping refuses as JSON too (it
+/// printed nothing on standard output): not accepted, one defect with the
+/// kind and elements the Python package names, exit 3. A grid that is no
+/// grid stays an argument error (exit 2, nothing on standard output).
+#[test]
+fn check_json_reports_a_refusal_by_snapping() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut m = tetra();
+    for p in &mut m.positions {
+        *p = p.map(|x| x * 2e-4);
+    }
+    let path = write_off(dir.path(), "tiny.off", &m);
+    let check = |grid: &str| {
+        Command::new(env!("CARGO_BIN_EXE_wmslice"))
+            .args(["check", "--json", "--snap", grid])
+            .arg(&path)
+            .output()
+            .unwrap()
+    };
+    // A millimetre grid under a 0.2 mm part: every face collapses.
+    let out = check("0.001");
+    assert_eq!(out.status.code(), Some(3));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["accepted"], false);
+    assert!(json["stats"].is_null());
+    let d = &json["defects"][0];
+    assert_eq!(
+        (&d["kind"], &d["faces"], &d["grid"], &d["severity"]),
+        (
+            &"snap_collapsed_everything".into(),
+            &4.into(),
+            &"1/1000".into(),
+            &"error".into()
+        )
+    );
+    assert_eq!(json["defects"].as_array().unwrap().len(), 1);
+    // A grid so fine that a corner at 2e-4 is more than 2^53 steps out:
+    // vertex 1 is the first such.
+    let out = check("1e-300");
+    assert_eq!(out.status.code(), Some(3));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["defects"][0]["kind"], "snap_out_of_range");
+    assert_eq!(json["defects"][0]["vertex"], 1);
+    let out = check("0");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(out.stdout.is_empty());
+}
+
 #[test]
 fn snapping_that_flattens_a_sliver_is_caught_and_named() {
     // A flat tetrahedron, apex 0.0001 above its base: valid as read, but

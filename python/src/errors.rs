@@ -141,21 +141,10 @@ pub fn sweep_error<E: std::error::Error + 'static>(py: Python<'_>, e: SweepError
 /// mesh snapping refuses is an [`InvalidMesh`] naming the vertex.
 pub fn snap_error(py: Python<'_>, e: SnapError) -> PyErr {
     let text = e.to_string();
-    let value = match &e {
-        SnapError::NonPositive(_) | SnapError::TooManyVertices => {
-            return PyValueError::new_err(text)
-        }
-        SnapError::NonFinite(v) => {
-            serde_json::json!({"kind": "non_finite_coordinate", "vertex": v.0})
-        }
-        SnapError::OutOfRange { vertex, q } => {
-            serde_json::json!({"kind": "snap_out_of_range", "vertex": vertex.0, "grid": q})
-        }
-        SnapError::CollapsedEverything { q, faces, span } => {
-            serde_json::json!({"kind": "snap_collapsed_everything", "grid": q, "faces": faces, "span": span})
-        }
-    };
-    invalid_mesh(py, vec![(value, text, Severity::Error)], 0, Tally::Exact)
+    match e.defect_json() {
+        Some(value) => invalid_mesh(py, vec![(value, text, Severity::Error)], 0, Tally::Exact),
+        None => PyValueError::new_err(text),
+    }
 }
 
 /// The exception for a file that cannot be loaded: `OSError` (with the

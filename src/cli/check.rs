@@ -7,6 +7,7 @@ use super::progress::step;
 use super::{ExitCode, Failure};
 use crate::say;
 use anyhow::anyhow;
+use wmslice::mesh::snap::SnapError;
 use wmslice::mesh::validate::validate;
 
 /// Runs `check`.
@@ -16,7 +17,15 @@ pub fn run(a: CheckArgs) -> Result<(), Failure> {
     let reading = step("reading and welding the mesh", false);
     let input = load_input(&a.mesh, a.snap.as_deref(), a.repairs.repairs());
     reading.finish_and_clear();
-    let input = input?;
+    let input = match input {
+        Ok(input) => input,
+        Err(f) => {
+            if a.json {
+                refusal_json(&a.mesh, &f)?;
+            }
+            return Err(f);
+        }
+    };
     let validating = step("validating the mesh", false);
     let report = validate(&input.mesh);
     validating.finish_and_clear();
@@ -63,4 +72,34 @@ pub fn run(a: CheckArgs) -> Result<(), Failure> {
             error: anyhow!("{} is rejected for slicing: {first}", a.mesh),
         })
     }
+}
+
+/// With `--json`, a mesh that snapping refuses (a non-finite coordinate,
+/// one too far from the origin for the grid, a grid that collapses every
+/// face) is reported as JSON too: not accepted, its one defect as the
+/// Python package lists it, no measures. Input and argument errors stay
+/// on standard error only.
+fn refusal_json(mesh: &str, f: &Failure) -> Result<(), Failure> {
+    let Some(mut defect) = f
+        .error
+        .downcast_ref::<SnapError>()
+        .and_then(SnapError::defect_json)
+    else {
+        return Ok(());
+    };
+    if let Some(o) = defect.as_object_mut() {
+        o.insert("severity".into(), "error".into());
+        o.insert("message".into(), f.error.to_string().into());
+    }
+    let doc = serde_json::json!({
+        "mesh": mesh,
+        "accepted": false,
+        "stats": null,
+        "defects": [defect],
+        "unlisted_defects": 0,
+        "unlisted_count": "exact",
+        "notes": [],
+    });
+    say!("{}", serde_json::to_string_pretty(&doc).unwrap_or_default());
+    Ok(())
 }

@@ -54,6 +54,27 @@ pub enum SnapError {
     },
 }
 
+impl SnapError {
+    /// The mesh's defect this error reports, as `check --json` and the
+    /// Python package's `InvalidMesh.defects` list it: its `kind` and the
+    /// elements or grid it names; `None` when the fault is not the mesh's
+    /// (a grid that is not positive, more vertices than ids).
+    pub fn defect_json(&self) -> Option<serde_json::Value> {
+        Some(match self {
+            SnapError::NonPositive(_) | SnapError::TooManyVertices => return None,
+            SnapError::NonFinite(v) => {
+                serde_json::json!({"kind": "non_finite_coordinate", "vertex": v.0})
+            }
+            SnapError::OutOfRange { vertex, q } => {
+                serde_json::json!({"kind": "snap_out_of_range", "vertex": vertex.0, "grid": q})
+            }
+            SnapError::CollapsedEverything { q, faces, span } => serde_json::json!(
+                {"kind": "snap_collapsed_everything", "grid": q, "faces": faces, "span": span}
+            ),
+        })
+    }
+}
+
 /// A snapped mesh and what snapping did.
 #[derive(Debug, Clone)]
 pub struct Snapped {
