@@ -29,7 +29,10 @@ pub enum SnapError {
     #[error("vertex {0} has a non-finite coordinate")]
     NonFinite(VertexId),
     /// A coordinate is too far from zero for this grid.
-    #[error("vertex {vertex} is more than 2^53 grid steps of {q} from the origin: choose a coarser grid")]
+    #[error(
+        "vertex {vertex} is more than 2^53 grid steps of {} from the origin: choose a coarser grid",
+        readable(q)
+    )]
     OutOfRange {
         /// The vertex.
         vertex: VertexId,
@@ -42,7 +45,7 @@ pub enum SnapError {
     /// Every face collapsed on the grid (each repeats a vertex), whether or
     /// not collapsed faces are dropped: a grid about as coarse as the part
     /// (a mesh in metres on a grid meant for millimetres).
-    #[error("snapping to the grid {q} collapsed every one of the {faces} faces: the mesh spans {:.3e} x {:.3e} x {:.3e}; choose a grid much finer than the mesh", .span[0], .span[1], .span[2])]
+    #[error("snapping to the grid {} collapsed every one of the {faces} faces: the mesh spans {:.3e} x {:.3e} x {:.3e}; choose a grid much finer than the mesh", readable(q), .span[0], .span[1], .span[2])]
     CollapsedEverything {
         /// The grid, as `p/q`.
         q: String,
@@ -52,6 +55,20 @@ pub enum SnapError {
         /// for the message).
         span: [f64; 3],
     },
+}
+
+/// A grid's exact text for a message, or its nearest double when that
+/// text is long (`1e-300` is `1/1000...` with 300 zeros); the JSON keeps
+/// the exact text.
+fn readable(q: &str) -> String {
+    if q.len() <= 40 {
+        return q.to_owned();
+    }
+    let (p, d) = q.split_once('/').unwrap_or((q, "1"));
+    match (p.parse::<f64>(), d.parse::<f64>()) {
+        (Ok(p), Ok(d)) if (p / d).is_normal() => format!("~{:e}", p / d),
+        _ => format!("{}...", &q[..40]),
+    }
 }
 
 impl SnapError {
@@ -293,6 +310,28 @@ pub fn snap_exact(mesh: &Mesh, exact: &ExactPositions, q: &Rat) -> Result<Snappe
 mod tests {
     use super::*;
     use crate::exact::parse_rational;
+
+    /// Messages name a grid by its exact text when it is short, else by
+    /// its nearest double, marked `~` (a 300-digit denominator helps no
+    /// one), else by the start of the text; the JSON keeps the text.
+    #[test]
+    fn a_long_grid_is_named_by_its_nearest_double() {
+        let text = |g: &str| rat_to_string(&parse_rational(g).unwrap());
+        assert_eq!(readable(&text("3/7")), "3/7");
+        assert_eq!(readable(&text("1e-30")), format!("1/1{}", "0".repeat(30)));
+        assert_eq!(readable(&text("1e-300")), "~1e-300");
+        assert_eq!(readable(&text("2.5e300")), "~2.5e300");
+        assert_eq!(
+            readable(&text("1e-3000")),
+            format!("1/1{}...", "0".repeat(37))
+        );
+        let e = SnapError::OutOfRange {
+            vertex: VertexId(1),
+            q: text("1e-300"),
+        };
+        assert!(e.to_string().contains("grid steps of ~1e-300 from"), "{e}");
+        assert_eq!(e.defect_json().unwrap()["grid"], text("1e-300"));
+    }
 
     /// Doubles across the whole range and the grids users pass.
     fn coordinate() -> impl proptest::strategy::Strategy<Value = f64> {
