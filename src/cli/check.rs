@@ -7,8 +7,9 @@ use super::progress::step;
 use super::{ExitCode, Failure};
 use crate::say;
 use anyhow::anyhow;
+use serde_json::Value;
 use wmslice::mesh::snap::SnapError;
-use wmslice::mesh::validate::validate;
+use wmslice::mesh::validate::{validate, Severity, Tally};
 
 /// Runs `check`.
 pub fn run(a: CheckArgs) -> Result<(), Failure> {
@@ -36,22 +37,18 @@ pub fn run(a: CheckArgs) -> Result<(), Failure> {
         None => report,
     };
     if a.json {
-        let doc = serde_json::json!({
-            "mesh": a.mesh,
-            "accepted": report.is_accepted(),
-            "stats": report.stats,
-            "defects": report.defects.iter().map(|d| {
-                let mut v = serde_json::to_value(d).unwrap_or_default();
-                if let Some(o) = v.as_object_mut() {
-                    o.insert("severity".into(), serde_json::to_value(d.severity()).unwrap_or_default());
-                    o.insert("message".into(), d.to_string().into());
-                }
-                v
-            }).collect::<Vec<_>>(),
-            "unlisted_defects": report.unlisted,
-            "unlisted_count": report.tally,
-            "notes": input.notes,
+        let defects = report.defects.iter().map(|d| {
+            let v = serde_json::to_value(d).unwrap_or_default();
+            listed(v, d.severity(), d.to_string())
         });
+        let doc = document(
+            &a.mesh,
+            report.is_accepted(),
+            serde_json::to_value(&report.stats).unwrap_or_default(),
+            defects.collect(),
+            (report.unlisted, report.tally),
+            &input.notes,
+        );
         say!("{}", serde_json::to_string_pretty(&doc).unwrap_or_default());
     } else {
         for n in &input.notes {
@@ -80,26 +77,57 @@ pub fn run(a: CheckArgs) -> Result<(), Failure> {
 /// Python package lists it, no measures. Input and argument errors stay
 /// on standard error only.
 fn refusal_json(mesh: &str, f: &Failure) -> Result<(), Failure> {
-    let Some(mut defect) = f
+    let Some(defect) = f
         .error
         .downcast_ref::<SnapError>()
         .and_then(SnapError::defect_json)
     else {
         return Ok(());
     };
-    if let Some(o) = defect.as_object_mut() {
-        o.insert("severity".into(), "error".into());
-        o.insert("message".into(), f.error.to_string().into());
-    }
-    let doc = serde_json::json!({
-        "mesh": mesh,
-        "accepted": false,
-        "stats": null,
-        "defects": [defect],
-        "unlisted_defects": 0,
-        "unlisted_count": "exact",
-        "notes": [],
-    });
+    let defect = listed(defect, Severity::Error, f.error.to_string());
+    let doc = document(
+        mesh,
+        false,
+        Value::Null,
+        vec![defect],
+        (0, Tally::Exact),
+        &[],
+    );
     say!("{}", serde_json::to_string_pretty(&doc).unwrap_or_default());
     Ok(())
+}
+
+/// A defect's JSON with its severity and message added.
+fn listed(mut defect: Value, severity: Severity, message: String) -> Value {
+    if let Some(o) = defect.as_object_mut() {
+        o.insert(
+            "severity".into(),
+            serde_json::to_value(severity).unwrap_or_default(),
+        );
+        o.insert("message".into(), message.into());
+    }
+    defect
+}
+
+/// `check --json`'s document: whether the mesh is accepted, its measures
+/// (null when snapping refused it before they were taken), the listed
+/// defects, how many more there are and whether that count is exact,
+/// and the notes on reading it.
+fn document(
+    mesh: &str,
+    accepted: bool,
+    stats: Value,
+    defects: Vec<Value>,
+    (unlisted, tally): (usize, Tally),
+    notes: &[String],
+) -> Value {
+    serde_json::json!({
+        "mesh": mesh,
+        "accepted": accepted,
+        "stats": stats,
+        "defects": defects,
+        "unlisted_defects": unlisted,
+        "unlisted_count": tally,
+        "notes": notes,
+    })
 }
